@@ -1,0 +1,101 @@
+"""Command line: ``morphlearn design`` evaluates one design; ``morphlearn verify`` spot-checks."""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+from collections.abc import Sequence
+
+import numpy as np
+
+from morphlearn import grid as gridmod
+from morphlearn.metrics import design_metrics
+
+
+class UsageError(ValueError):
+    """Bad command-line input: one line, exit code 2."""
+
+
+def _position(name: str, xy: Sequence[float]) -> tuple[float, float]:
+    for axis, v in zip("xy", xy, strict=True):
+        if not (-0.5 <= v <= 0.5) or not np.isfinite(v):
+            raise UsageError(f"{name} {axis} = {v} is outside the body; allowed: [-0.5, 0.5]")
+    return float(xy[0]), float(xy[1])
+
+
+def _positive(name: str, v: float | None) -> None:
+    if v is not None and not v > 0:
+        raise UsageError(f"{name} = {v} must be > 0")
+
+
+def cmd_design(a: argparse.Namespace) -> int:
+    l1 = _position("--l1", a.l1)
+    l2 = _position("--l2", a.l2)
+    if a.weights < 2:
+        raise UsageError(f"--weights = {a.weights} must be >= 2")
+    for name in ("r", "horizon", "dt"):
+        _positive(f"--{name}", getattr(a, name))
+    w = gridmod.weights(a.weights)
+    if a.model == "theory":
+        from morphlearn.theory import TheoryParams, evaluate
+
+        p = TheoryParams(
+            r=a.r if a.r is not None else 4.0,
+            horizon=a.horizon if a.horizon is not None else 500.0,
+            success_radius=0.2,
+            integrator="rk4" if a.dt is not None else "dp5",
+            dt=a.dt if a.dt is not None else 0.01,
+        )
+        res = evaluate(np.array([[*l1, *l2]]), w, p, progress=not a.json)[0]
+    else:
+        from morphlearn.empirical import evaluate_design, load_params  # type: ignore[attr-defined]
+
+        params = load_params(a.morphology)
+        res = evaluate_design(l1, l2, w, params, progress=not a.json)
+    dm = design_metrics(~np.isnan(res.first_time), res.status)
+    out = {"per_env": dm.per_env, "generalists": dm.generalists,
+           "at_least_one": dm.at_least_one, "M_L": dm.M_L, "M_CF": dm.M_CF}  # fmt: skip
+    if a.json:
+        print(json.dumps(out))
+    else:
+        envs = ", ".join(f"{ang} deg: {c}" for ang, c in zip(gridmod.ENV_ANGLES_DEG, dm.per_env, strict=True))
+        print(f"design l1={l1} l2={l2}, model {a.model}, {a.weights}x{a.weights} controllers")
+        print(f"successes per environment: {envs}")
+        print(f"generalists (O == 4): {dm.generalists}; at least one (O >= 1): {dm.at_least_one}")
+        print(f"M_L = {dm.M_L:.6f}; M_CF = {dm.M_CF:.6f}; flagged trajectories: {dm.flagged}")
+    return 0
+
+
+def build_parser() -> argparse.ArgumentParser:
+    p = argparse.ArgumentParser(prog="morphlearn", description=__doc__)
+    sub = p.add_subparsers(dest="cmd", required=True)
+    d = sub.add_parser("design", help="evaluate one design over the M x M weight grid")
+    d.add_argument("--model", choices=["theory", "empirical"], default="theory")
+    d.add_argument("--l1", nargs=2, type=float, required=True, metavar=("X", "Y"))
+    d.add_argument("--l2", nargs=2, type=float, required=True, metavar=("X", "Y"))
+    d.add_argument("--weights", type=int, default=121, metavar="M", help="weights per synapse (121)")
+    d.add_argument("--r", type=float, default=None, help="light distance (theory: 4)")
+    d.add_argument("--horizon", type=float, default=None, help="simulated time (theory: 500)")
+    d.add_argument("--dt", type=float, default=None, help="use fixed-step RK4 with this step")
+    d.add_argument("--morphology", default=None, help="empirical: body parameters YAML")
+    d.add_argument("--json", action="store_true", help="print one JSON object")
+    d.set_defaults(func=cmd_design)
+    return p
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    parser = build_parser()
+    a = parser.parse_args(argv)
+    try:
+        return a.func(a)
+    except (UsageError, ValueError) as e:
+        print(f"morphlearn {a.cmd}: error: {e}", file=sys.stderr)
+        return 2
+    except KeyboardInterrupt:
+        print("interrupted", file=sys.stderr)
+        return 130
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

@@ -1,0 +1,144 @@
+"""Configuration: schema validation with one-line errors, defaults, hashing of science subsets."""
+
+from __future__ import annotations
+
+import copy
+import hashlib
+import json
+from importlib import resources
+from pathlib import Path
+from typing import Any
+
+import jsonschema
+import yaml
+
+
+class ConfigError(ValueError):
+    """A bad configuration value; the message names the key and what is allowed."""
+
+
+def schema() -> dict[str, Any]:
+    text = resources.files("morphlearn").joinpath("config_schema.yaml").read_text()
+    return yaml.safe_load(text)
+
+
+def _path(err: jsonschema.ValidationError) -> str:
+    return ".".join(str(p) for p in err.absolute_path) or "<top level>"
+
+
+def _describe(err: jsonschema.ValidationError) -> str:
+    key = _path(err)
+    v = err.validator
+    s = err.schema
+    if v == "additionalProperties":
+        allowed = sorted(err.schema.get("properties", {}))
+        extra = sorted(set(err.instance) - set(allowed))
+        where = "" if key == "<top level>" else f" under '{key}'"
+        return f"unknown key{'s' if len(extra) > 1 else ''} {extra}{where}; allowed: {allowed}"
+    if v == "required":
+        return f"{err.message} (in '{key}')"
+    bounds = []
+    if "minimum" in s:
+        bounds.append(f">= {s['minimum']}")
+    if "exclusiveMinimum" in s:
+        bounds.append(f"> {s['exclusiveMinimum']}")
+    if "maximum" in s:
+        bounds.append(f"<= {s['maximum']}")
+    if "enum" in s:
+        bounds.append(f"one of {s['enum']}")
+    allowed = f"; allowed: {s.get('type', '')} {' and '.join(bounds)}".rstrip()
+    return f"{key} = {err.instance!r} is invalid ({err.message}){allowed}"
+
+
+def _fill_defaults(cfg: dict[str, Any], sch: dict[str, Any]) -> None:
+    for k, sub in sch.get("properties", {}).items():
+        if k not in cfg and "default" in sub:
+            cfg[k] = copy.deepcopy(sub["default"])
+        if isinstance(cfg.get(k), dict) and sub.get("type") == "object":
+            _fill_defaults(cfg[k], sub)
+
+
+def validate(cfg: dict[str, Any]) -> dict[str, Any]:
+    """Validate a config mapping; return a copy with defaults filled. Raises ConfigError."""
+    if not isinstance(cfg, dict):
+        raise ConfigError(f"config must be a mapping, got {type(cfg).__name__}")
+    sch = schema()
+    errors = sorted(
+        jsonschema.Draft202012Validator(sch).iter_errors(cfg), key=lambda e: list(e.absolute_path)
+    )
+    if errors:
+        raise ConfigError(_describe(errors[0]))
+    out = copy.deepcopy(cfg)
+    _fill_defaults(out, sch)
+    _check_cross(out)
+    return out
+
+
+def _check_cross(cfg: dict[str, Any]) -> None:
+    from morphlearn.grid import DesignGrid
+
+    g = DesignGrid(cfg["grid"]["positions_per_axis"])
+    n_eval = len(g.representatives()) if cfg["sweep"]["mirror_symmetry"] else g.size
+    if cfg["sweep"]["shards"] > n_eval:
+        raise ConfigError(
+            f"sweep.shards = {cfg['sweep']['shards']} exceeds the {n_eval} designs evaluated; "
+            f"allowed: 1..{n_eval}"
+        )
+    a = cfg["analysis"]
+    th = cfg["theory"]
+    if a.get("horizon") is not None and a["horizon"] > th["horizon"]:
+        raise ConfigError(
+            f"analysis.horizon = {a['horizon']} exceeds theory.horizon = {th['horizon']}; "
+            f"allowed: <= {th['horizon']} (or raise theory.horizon and re-simulate)"
+        )
+
+
+def load(path: str | Path, overrides: list[str | Path] = ()) -> dict[str, Any]:
+    """Load a YAML config (deep-merging override files, as ``--configfile`` does) and validate."""
+    cfg = _read_yaml(path)
+    for o in overrides:
+        cfg = deep_merge(cfg, _read_yaml(o))
+    return validate(cfg)
+
+
+def _read_yaml(path: str | Path) -> dict[str, Any]:
+    try:
+        data = yaml.safe_load(Path(path).read_text())
+    except yaml.YAMLError as e:
+        mark = getattr(e, "problem_mark", None)
+        where = f" at line {mark.line + 1}, column {mark.column + 1}" if mark else ""
+        raise ConfigError(f"{path}: malformed YAML{where}") from None
+    except OSError as e:
+        raise ConfigError(f"{path}: cannot read ({e.strerror})") from None
+    if not isinstance(data, dict):
+        raise ConfigError(f"{path}: top level must be a mapping of keys")
+    return data
+
+
+def deep_merge(base: dict[str, Any], over: dict[str, Any]) -> dict[str, Any]:
+    out = copy.deepcopy(base)
+    for k, v in over.items():
+        out[k] = deep_merge(out[k], v) if isinstance(v, dict) and isinstance(out.get(k), dict) else v
+    return out
+
+
+def canonical_json(obj: Any) -> str:
+    return json.dumps(obj, sort_keys=True, separators=(",", ":"))
+
+
+def digest(obj: Any) -> str:
+    """SHA-256 of the canonical JSON of ``obj``: the identity of a science config subset."""
+    return hashlib.sha256(canonical_json(obj).encode()).hexdigest()
+
+
+def theory_science(cfg: dict[str, Any]) -> dict[str, Any]:
+    """The config subset that determines the theory sweep's numbers (not sharding, threads)."""
+    th = cfg["theory"]
+    keys = ["r", "horizon", "success_radius", "integrator", "max_steps"]
+    keys += ["rtol", "atol"] if th["integrator"] == "dp5" else ["dt"]
+    return {
+        "model": "theory",
+        "grid": dict(cfg["grid"]),
+        "theory": {k: th[k] for k in keys},
+        "mirror_symmetry": cfg["sweep"]["mirror_symmetry"],
+    }

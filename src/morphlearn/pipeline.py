@@ -1,0 +1,153 @@
+"""What each workflow rule does, as functions: the Snakemake scripts only unpack and call."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import pandas as pd
+
+from morphlearn import config as cfgmod
+from morphlearn import grid as gridmod
+from morphlearn import metrics, provenance, store
+from morphlearn.theory import TheoryParams, evaluate
+
+MODELS = ("theory",)
+
+
+def designs_to_evaluate(cfg: dict[str, Any]) -> np.ndarray:
+    g = gridmod.DesignGrid(cfg["grid"]["positions_per_axis"])
+    return g.representatives() if cfg["sweep"]["mirror_symmetry"] else np.arange(g.size)
+
+
+def shard_designs(cfg: dict[str, Any]) -> list[np.ndarray]:
+    return gridmod.split_shards(designs_to_evaluate(cfg), cfg["sweep"]["shards"])
+
+
+def science(cfg: dict[str, Any], model: str) -> dict[str, Any]:
+    if model == "theory":
+        return cfgmod.theory_science(cfg)
+    raise ValueError(f"unknown model {model!r}; allowed: {MODELS}")
+
+
+def run_shard(cfg: dict[str, Any], model: str, shard: int, out: str | Path) -> None:
+    g = gridmod.DesignGrid(cfg["grid"]["positions_per_axis"])
+    w = gridmod.weights(cfg["grid"]["weights"])
+    designs = shard_designs(cfg)[shard]
+    sci = science(cfg, model)
+    results = evaluate(g.coords(designs), w, TheoryParams.from_config(cfg["theory"]), progress=True)
+    store.write_shard(out, model=model, grid=g, weights=w, designs=designs, results=results,
+                      science=sci, provenance=provenance.record(sci))  # fmt: skip
+
+
+def run_merge(cfg: dict[str, Any], model: str, shards: list[str], out: str | Path) -> None:
+    g = gridmod.DesignGrid(cfg["grid"]["positions_per_axis"])
+    sci = science(cfg, model)
+    store.merge_shards(
+        shards, out, model=model, grid=g, weights=gridmod.weights(cfg["grid"]["weights"]),
+        shard_designs=shard_designs(cfg), science=sci, mirror=cfg["sweep"]["mirror_symmetry"],
+        provenance=provenance.record(sci, shards),
+    )  # fmt: skip
+
+
+def thresholds(cfg: dict[str, Any], model: str) -> metrics.Thresholds:
+    th = cfg["theory"]
+    a = cfg["analysis"]
+    return metrics.Thresholds(
+        horizon=a["horizon"] if a.get("horizon") is not None else th["horizon"],
+        radius=a["success_radius"] if a.get("success_radius") is not None else th["success_radius"],
+        sim_horizon=th["horizon"],
+        sim_radius=th["success_radius"],
+    )
+
+
+def run_metrics(cfg: dict[str, Any], model: str, merged: str | Path, out_csv: str | Path) -> None:
+    th = thresholds(cfg, model)
+    table = metrics.metrics_table(store.open_merged(merged), th)
+    _write_csv_with_provenance(table, out_csv, {"thresholds": th.__dict__, "model": model}, [merged])
+
+
+def _write_csv_with_provenance(
+    table: pd.DataFrame, out_csv: str | Path, subset: dict[str, Any], inputs: list
+) -> None:
+    out_csv = Path(out_csv)
+    with store.atomic_path(out_csv) as tmp:
+        table.to_csv(tmp, index=False, float_format="%.10g")
+    prov = provenance.record(subset, inputs)
+    with store.atomic_path(out_csv.with_suffix(".provenance.json")) as tmp:
+        tmp.write_text(json.dumps(prov, indent=1, sort_keys=True) + "\n")
+
+
+def _row(r: pd.Series) -> dict[str, Any]:
+    return {
+        "l1": [r.l1x, r.l1y], "l2": [r.l2x, r.l2y], "generalists": int(r.generalists),
+        "at_least_one": int(r.at_least_one), "M_L": float(r.M_L), "M_CF": float(r.M_CF),
+        "flagged": int(r.flagged),
+    }  # fmt: skip
+
+
+def summarise(table: pd.DataFrame, top: int) -> dict[str, Any]:
+    """Canonical design (with its rank by M_L), best designs by M_L and by M_CF."""
+    (c1, c2) = gridmod.canonical_design()
+    canon = table[(table.l1x == c1[0]) & (table.l1y == c1[1]) & (table.l2x == c2[0]) & (table.l2y == c2[1])]
+    by_ml = metrics.rank_designs(table, "M_L")
+    by_cf = metrics.rank_designs(table, "M_CF")
+    out: dict[str, Any] = {"designs": len(table), "controllers": None}
+    if len(canon):
+        c = canon.iloc[0]
+        out["canonical"] = _row(c) | {
+            "rank_M_L": int((table.M_L > c.M_L).sum()) + 1,
+            "rank_M_CF": int((table.M_CF > c.M_CF).sum()) + 1,
+        }
+    out["top_M_L"] = [_row(r) for _, r in by_ml.head(top).iterrows()]
+    out["top_M_CF"] = [_row(r) for _, r in by_cf.head(top).iterrows()]
+    out["M_CF_eq_1"] = int((table.M_CF == 1.0).sum())
+    best_cf1 = table[table.M_CF == 1.0]
+    out["best_M_L_among_M_CF_eq_1"] = float(best_cf1.M_L.max()) if len(best_cf1) else None
+    return out
+
+
+def run_summary(cfg: dict[str, Any], tables: dict[str, str], out_json: str | Path,
+                out_md: str | Path) -> None:  # fmt: skip
+    summary = {"weights": cfg["grid"]["weights"], "positions_per_axis": cfg["grid"]["positions_per_axis"]}
+    for model, path in tables.items():
+        t = pd.read_csv(path)
+        s = summarise(t, cfg["analysis"]["top"])
+        s["controllers"] = cfg["grid"]["weights"] ** 2
+        summary[model] = s
+    with store.atomic_path(out_json) as tmp:
+        tmp.write_text(json.dumps(summary, indent=1, sort_keys=True) + "\n")
+    with store.atomic_path(out_md) as tmp:
+        tmp.write_text(summary_markdown(summary))
+
+
+def _fmt(d: dict[str, Any]) -> str:
+    return (f"| ({d['l1'][0]:g}, {d['l1'][1]:g}) | ({d['l2'][0]:g}, {d['l2'][1]:g}) | "
+            f"{d['generalists']} | {d['at_least_one']} | {d['M_L']:.4f} | {d['M_CF']:.4f} | "
+            f"{d['flagged']} |")  # fmt: skip
+
+
+def summary_markdown(summary: dict[str, Any]) -> str:
+    head = "| l1 | l2 | generalists | at least one | M_L | M_CF | flagged |\n|---|---|---|---|---|---|---|"
+    lines = [
+        "# Summary",
+        "",
+        f"Grid: {summary['positions_per_axis']} positions per axis per sensor, "
+        f"{summary['weights']} weights per synapse.",
+    ]
+    for model in ("theory", "empirical"):
+        s = summary.get(model)
+        if not s:
+            continue
+        lines += ["", f"## {model} ({s['designs']} designs, {s['controllers']} controllers each)", ""]
+        if "canonical" in s:
+            c = s["canonical"]
+            lines += [f"Canonical design: rank {c['rank_M_L']} by M_L, {c['rank_M_CF']} by M_CF.",
+                      "", head, _fmt(c), ""]  # fmt: skip
+        lines += ["Top designs by M_L:", "", head, *map(_fmt, s["top_M_L"]), ""]
+        lines += ["Top designs by M_CF:", "", head, *map(_fmt, s["top_M_CF"]), ""]
+        lines += [f"Designs with M_CF = 1: {s['M_CF_eq_1']}; best M_L among them: "
+                  f"{s['best_M_L_among_M_CF_eq_1']}"]  # fmt: skip
+    return "\n".join(lines) + "\n"

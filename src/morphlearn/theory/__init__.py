@@ -1,0 +1,68 @@
+"""The theoretical (ODE) model: fast batched evaluation and a scipy reference."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+from tqdm import tqdm
+
+from morphlearn.grid import env_starts
+from morphlearn.results import DesignResult
+from morphlearn.theory.model import METHOD_DP5, METHOD_RK4
+
+
+@dataclass(frozen=True)
+class TheoryParams:
+    r: float = 4.0
+    horizon: float = 500.0
+    success_radius: float = 0.2
+    integrator: str = "dp5"
+    rtol: float = 1e-8
+    atol: float = 1e-8
+    dt: float = 0.01
+    max_steps: int = 2_000_000
+
+    @classmethod
+    def from_config(cls, th: dict[str, Any]) -> TheoryParams:
+        return cls(**{k: th[k] for k in cls.__dataclass_fields__ if k in th})
+
+    @property
+    def method(self) -> int:
+        return METHOD_DP5 if self.integrator == "dp5" else METHOD_RK4
+
+
+def evaluate(
+    designs: np.ndarray,
+    weights: np.ndarray,
+    p: TheoryParams,
+    *,
+    progress: bool = False,
+    batch_trajectories: int = 400_000,
+    return_steps: bool = False,
+) -> list[DesignResult] | tuple[list[DesignResult], np.ndarray]:
+    """Evaluate designs given as coordinates (nd, 4) over envs x weights x weights (CPU)."""
+    from morphlearn.theory import cpu
+
+    designs = np.asarray(designs, dtype=np.float64).reshape(-1, 4)
+    m = len(weights)
+    per_batch = max(1, batch_trajectories // (4 * m * m))
+    starts = env_starts(p.r)
+    out: list[DesignResult] = []
+    steps = []
+    bar = tqdm(total=len(designs), unit="design", disable=not progress, mininterval=1.0)
+    for a in range(0, len(designs), per_batch):
+        ft, dm, st, n = cpu.sweep(
+            designs[a : a + per_batch], weights, starts, radius=p.success_radius,
+            horizon=p.horizon, method=p.method, rtol=p.rtol, atol=p.atol, dt=p.dt,
+            max_steps=p.max_steps,
+        )  # fmt: skip
+        out.extend(DesignResult(ft[i], dm[i], st[i]) for i in range(len(ft)))
+        if return_steps:
+            steps.append(n)
+        bar.update(len(ft))
+    bar.close()
+    if return_steps:
+        return out, np.concatenate(steps) if steps else np.zeros((0, 4, m, m), np.int64)
+    return out
