@@ -1,0 +1,181 @@
+"""Episodes of the empirical model and the per-design sweep over (env, w1, w2).
+
+Controller (Braitenberg, contralateral): ``s_i = 1 / d_i^2`` with ``d_i`` the horizontal
+distance of sensor ``i`` to the light centre; sensor 1 drives the RIGHT wheel with ``w1``,
+sensor 2 the LEFT wheel with ``w2``; ``motor = tanh(w * s)``; wheel target velocity
+``motor * max_speed`` under velocity control with force ``max_torque``.
+Success: the body centre comes within ``0.5 + wheel_radius + light_radius`` (horizontal) of
+the light centre, i.e. the robot touches it; the first such step ``k`` gives time ``k * dt``.
+
+One pybullet world is reused for all episodes (``restoreState`` of a snapshot taken right
+after building); this is bit-for-bit identical to a fresh world per episode (tested).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from dataclasses import dataclass
+
+import numpy as np
+import pybullet as pb
+
+from morphlearn.empirical.params import EmpiricalParams
+from morphlearn.empirical.robot import LEFT_WHEEL, RIGHT_WHEEL, World, build_world
+from morphlearn.grid import light_positions
+from morphlearn.results import STATUS_NONFINITE, STATUS_OK, DesignResult
+
+Point = tuple[float, float]
+
+
+@dataclass(frozen=True)
+class Episode:
+    """Outcome of one episode."""
+
+    first_time: float  # s, first contact with the light (NaN if none)
+    min_dist: float  # min horizontal centre-to-light distance (up to contact or horizon)
+    steps: int  # physics steps simulated
+    max_tilt: float  # rad, largest angle between body up-axis and world z
+    max_lift: float  # m, largest |z - wheel_radius| of the body centre (0 = resting)
+    finite: bool  # False if the state became NaN/inf (episode stopped there)
+
+    @property
+    def success(self) -> bool:
+        return not math.isnan(self.first_time)
+
+
+class EpisodeRunner:
+    """Runs episodes in one reusable DIRECT-mode world. Use as a context manager."""
+
+    def __init__(self, params: EmpiricalParams | None = None, *, reuse: bool = True) -> None:
+        self.params = params or EmpiricalParams()
+        self.reuse = reuse
+        self.lights = light_positions(self.params.light_distance)
+        self._world: World | None = None
+        self._state = -1
+
+    def _fresh(self) -> World:
+        if self._world is not None:
+            self._world.close()
+        self._world = build_world(self.params, tuple(self.lights[0]))
+        self._state = pb.saveState(physicsClientId=self._world.client)
+        return self._world
+
+    def _ready(self) -> World:
+        if self._world is None or not self.reuse:
+            return self._fresh()
+        pb.restoreState(self._state, physicsClientId=self._world.client)
+        return self._world
+
+    def close(self) -> None:
+        if self._world is not None:
+            self._world.close()
+            self._world = None
+
+    def __enter__(self) -> EpisodeRunner:
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.close()
+
+    def run(
+        self, l1: Point, l2: Point, w1: float, w2: float, env: int, *, stop_at_contact: bool = True
+    ) -> Episode:
+        """One episode of design ``(l1, l2)`` with weights ``(w1, w2)`` in environment ``env``."""
+        p = self.params
+        world = self._ready()
+        c, robot = world.client, world.robot
+        lx, ly = float(self.lights[env][0]), float(self.lights[env][1])
+        pb.resetBasePositionAndOrientation(
+            world.light, [lx, ly, p.light_radius], [0, 0, 0, 1], physicsClientId=c
+        )
+        x1, y1 = float(l1[0]), float(l1[1])
+        x2, y2 = float(l2[0]), float(l2[1])
+        w1, w2 = float(w1), float(w2)
+        z0, vmax, tau = p.wheel_radius, p.max_speed, p.max_torque
+        contact2 = p.contact_distance**2
+        forces = [tau, tau]
+        joints = [RIGHT_WHEEL, LEFT_WHEEL]
+        get_pose, step = pb.getBasePositionAndOrientation, pb.stepSimulation
+        control, vel = pb.setJointMotorControlArray, pb.VELOCITY_CONTROL
+
+        min_d2 = math.inf
+        first = math.nan
+        max_tilt_c = 1.0  # cos of the largest tilt, from the quaternion: 1 - 2 (qx^2 + qy^2)
+        max_lift = 0.0
+        finite = True
+        k = 0
+        while True:
+            (px, py, pz), (qx, qy, qz, qw) = get_pose(robot, physicsClientId=c)
+            if not math.isfinite(px + py + pz + qx + qy + qz + qw):
+                finite = False
+                break
+            dx, dy = px - lx, py - ly
+            d2 = dx * dx + dy * dy
+            min_d2 = min(min_d2, d2)
+            max_tilt_c = min(max_tilt_c, 1.0 - 2.0 * (qx * qx + qy * qy))
+            max_lift = max(max_lift, abs(pz - z0))
+            if d2 <= contact2 and math.isnan(first):
+                first = k * p.dt
+                if stop_at_contact:
+                    break
+            if k == p.steps:
+                break
+            # Body x and y axes on the floor: rotation-matrix columns from the quaternion.
+            ax, ay = 1.0 - 2.0 * (qy * qy + qz * qz), 2.0 * (qx * qy + qz * qw)
+            bx, by = 2.0 * (qx * qy - qz * qw), 1.0 - 2.0 * (qx * qx + qz * qz)
+            e1x, e1y = dx + ax * x1 + bx * y1, dy + ay * x1 + by * y1
+            e2x, e2y = dx + ax * x2 + bx * y2, dy + ay * x2 + by * y2
+            s1 = 1.0 / (e1x * e1x + e1y * e1y)
+            s2 = 1.0 / (e2x * e2x + e2y * e2y)
+            control(
+                robot,
+                joints,
+                vel,
+                targetVelocities=[math.tanh(w1 * s1) * vmax, math.tanh(w2 * s2) * vmax],
+                forces=forces,
+                physicsClientId=c,
+            )
+            step(physicsClientId=c)
+            k += 1
+        return Episode(
+            first_time=first,
+            min_dist=math.sqrt(min_d2),
+            steps=k,
+            max_tilt=math.acos(max(-1.0, min(1.0, max_tilt_c))),
+            max_lift=max_lift,
+            finite=finite,
+        )
+
+
+def evaluate_design(
+    l1: Point,
+    l2: Point,
+    weights: np.ndarray,
+    params: EmpiricalParams | None = None,
+    progress: Callable[[int, int], None] | None = None,
+) -> DesignResult:
+    """All (env, w1, w2) episodes of one design; arrays (4, m, m) indexed [env, i_w1, i_w2].
+
+    ``progress(done, total)`` is called after each episode if given. A non-finite state gives
+    status ``STATUS_NONFINITE`` (its first_time is NaN, min_dist up to where it stopped).
+    """
+    w = np.asarray(weights, dtype=np.float64)
+    m = len(w)
+    first = np.full((4, m, m), np.nan)
+    dist = np.full((4, m, m), np.nan)
+    status = np.full((4, m, m), STATUS_OK, dtype=np.int8)
+    total, done = 4 * m * m, 0
+    with EpisodeRunner(params) as runner:
+        for env in range(4):
+            for i in range(m):
+                for j in range(m):
+                    ep = runner.run(l1, l2, w[i], w[j], env)
+                    first[env, i, j] = ep.first_time
+                    dist[env, i, j] = ep.min_dist
+                    if not ep.finite:
+                        status[env, i, j] = STATUS_NONFINITE
+                    done += 1
+                    if progress is not None:
+                        progress(done, total)
+    return DesignResult(first_time=first, min_dist=dist, status=status)

@@ -1,0 +1,115 @@
+"""Physical parameters and solver settings of the empirical (pybullet) model.
+
+Units are SI as pybullet reads them: metres, kilograms, seconds, radians, newton-metres.
+The body is a 1 x 1 box (sensor coordinates in [-0.5, 0.5] are on it), so lengths are in
+body widths as well. Defaults are the paper authors' tuned base morphology; the morphology
+this project uses comes from :mod:`morphlearn.empirical.optimise` and lives in
+``config/empirical_morphology.yaml`` (load it with :func:`load_params`).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from collections.abc import Mapping
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+#: Side of the square body (m). Fixed: the sensor grid is defined on it.
+BODY_SIZE = 1.0
+
+
+@dataclass(frozen=True)
+class EmpiricalParams:
+    """Body, actuation, environment and solver settings. Frozen: safe as a cache key."""
+
+    body_mass: float = 999.973  # kg, the box
+    wheel_mass: float = 117.519  # kg, each of the two driven sphere wheels
+    castor_mass: float = 0.00666  # kg, the passive frictionless front castor sphere
+    wheel_radius: float = 0.260017  # m; body height = wheel_radius / 2, centre at z = wheel_radius
+    max_speed: float = 2.59115 * math.pi  # rad/s, wheel angular speed at |motor| = 1
+    max_torque: float = 1.95026 * math.pi  # N m, velocity-motor force limit per wheel
+    wheel_setback: float = 0.025  # m, wheel axle behind the body centre (0 tips the body back)
+    wheel_friction: float = 1.0  # lateral friction of wheels (and the floor); castor has 0
+    light_radius: float = 0.2  # m
+    light_distance: float = 4.0 * math.sqrt(2.0)  # m, start-to-light distance r
+    gravity: float = 9.81  # m/s^2, magnitude (acts along -z)
+    dt: float = 0.05  # s, physics step
+    steps: int = 2500  # steps per episode (horizon = steps * dt = 125 s)
+    solver_iterations: int = 100  # 50 flips outcomes; 100 makes results mirror-symmetric
+
+    def __post_init__(self) -> None:
+        for f in dataclasses.fields(self):
+            _check(f.name, getattr(self, f.name))
+
+    @property
+    def contact_distance(self) -> float:
+        """Centre-to-light distance that counts as touching the light (success)."""
+        return 0.5 * BODY_SIZE + self.wheel_radius + self.light_radius
+
+    @property
+    def horizon(self) -> float:
+        return self.steps * self.dt
+
+    @classmethod
+    def from_mapping(cls, values: Mapping[str, Any]) -> EmpiricalParams:
+        """Defaults overridden by ``values``; unknown keys and out-of-range values raise."""
+        allowed = [f.name for f in dataclasses.fields(cls)]
+        for k in values:
+            if k not in allowed:
+                raise ValueError(f"unknown empirical parameter {k!r}; allowed: {allowed}")
+        return cls(**dict(values))
+
+    def to_dict(self) -> dict[str, Any]:
+        return dataclasses.asdict(self)
+
+    def replace(self, **changes: Any) -> EmpiricalParams:
+        return dataclasses.replace(self, **changes)
+
+
+# name -> (lower bound, lower bound exclusive?, upper bound or None, integer?)
+_RANGES: dict[str, tuple[float, bool, float | None, bool]] = {
+    "body_mass": (0.0, True, None, False),
+    "wheel_mass": (0.0, True, None, False),
+    "castor_mass": (0.0, True, None, False),
+    "wheel_radius": (0.0, True, None, False),
+    "max_speed": (0.0, True, None, False),
+    "max_torque": (0.0, True, None, False),
+    "wheel_setback": (-0.5, False, 0.5, False),
+    "wheel_friction": (0.0, False, None, False),
+    "light_radius": (0.0, True, None, False),
+    "light_distance": (0.0, True, None, False),
+    "gravity": (0.0, False, None, False),
+    "dt": (0.0, True, None, False),
+    "steps": (1, False, None, True),
+    "solver_iterations": (1, False, None, True),
+}
+
+
+def _allowed(name: str) -> str:
+    lo, excl, hi, integer = _RANGES[name]
+    kind = "integer" if integer else "number"
+    hi_s = f" and <= {hi}" if hi is not None else ""
+    return f"{kind} {'>' if excl else '>='} {lo}{hi_s}"
+
+
+def _check(name: str, value: Any) -> None:
+    lo, excl, hi, integer = _RANGES[name]
+    ok_type = isinstance(value, int) if integer else isinstance(value, (int, float))
+    if isinstance(value, bool) or not ok_type:
+        raise ValueError(f"{name} = {value!r} is invalid; allowed: {_allowed(name)}")
+    v = float(value)
+    bad = not math.isfinite(v) or (v <= lo if excl else v < lo) or (hi is not None and v > hi)
+    if bad:
+        raise ValueError(f"{name} = {value!r} is out of range; allowed: {_allowed(name)}")
+
+
+def load_params(path: str | Path) -> EmpiricalParams:
+    """Read a YAML mapping of parameter names (e.g. ``config/empirical_morphology.yaml``)."""
+    import yaml
+
+    data = yaml.safe_load(Path(path).read_text())
+    if not isinstance(data, dict):
+        raise ValueError(f"{path}: expected a mapping of empirical parameters")
+    return EmpiricalParams.from_mapping(data)
