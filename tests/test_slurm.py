@@ -38,8 +38,9 @@ PROFILE_TEST = REPO / "profiles" / "slurm-test"
 PROFILE_REAL = REPO / "profiles" / "slurm"
 SMOKE = "config/smoke.yaml"
 FULL = "config/full.yaml"
-# What a workflow copy needs (the package itself is imported from the installed venv).
-WORKFLOW_FILES = ("Snakefile", "config.yaml", "config", "workflow", "notebooks", "envs")
+# Left out of a workflow copy (the package itself is imported from the installed venv).
+SKIP_TOP = {".git", ".venv", ".snakemake", "results", "build", ".whl", ".gl", "tests"}
+SKIP_ANY = ("__pycache__", ".snakemake", ".pytest_cache", ".ruff_cache", "*.egg-info")
 # The merged results that must not depend on where the shards ran.
 MERGED = ("results/theory/merged.zarr", "results/theory/metrics.csv")
 SHARD_RULES = ("theory_shard", "empirical_shard")
@@ -81,14 +82,16 @@ class Run:
     seconds: float
 
 
-def snakemake(cwd: Path, *args: str, timeout_s: int = RUN_TIMEOUT_S) -> Run:
+def snakemake(
+    cwd: Path, *args: str, timeout_s: int = RUN_TIMEOUT_S, env: dict[str, str] | None = None
+) -> Run:
     """Run Snakemake in `cwd`, killed after `timeout_s`, then unlocked if it was killed."""
     cmd = [sys.executable, "-m", "snakemake", *args]
     t0 = time.monotonic()
     proc = subprocess.run(
         ["timeout", "-s", "KILL", str(timeout_s), *cmd],
         cwd=cwd,
-        env=_env(),
+        env={**_env(), **(env or {})},
         stdout=subprocess.PIPE,
         stderr=subprocess.STDOUT,
         text=True,
@@ -123,13 +126,20 @@ def job_counts(output: str) -> dict[str, int]:
 
 
 def copy_workflow(dest: Path) -> Path:
-    dest.mkdir(parents=True, exist_ok=True)
-    for name in WORKFLOW_FILES:
-        src = REPO / name
-        if src.is_dir():
-            shutil.copytree(src, dest / name, ignore=shutil.ignore_patterns("__pycache__"))
-        elif src.is_file():
-            shutil.copy2(src, dest / name)
+    """A scratch copy of the repository's workflow (no results, venv or git)."""
+    skip_any = shutil.ignore_patterns(*SKIP_ANY)
+
+    def ignore(directory: str, names: list[str]) -> set[str]:
+        skipped = set(skip_any(directory, names))
+        if Path(directory) == REPO:
+            skipped |= SKIP_TOP & set(names)
+        return skipped
+
+    shutil.copytree(REPO, dest, ignore=ignore, dirs_exist_ok=True)
+    (dest / "results").mkdir(exist_ok=True)
+    committed = REPO / "results" / "committed"
+    if committed.is_dir():  # tracked reference results a rule may read
+        shutil.copytree(committed, dest / "results" / "committed")
     return dest
 
 
@@ -147,6 +157,15 @@ def tree_bytes(root: Path, rel: str) -> dict[str, bytes]:
     return {
         str(p.relative_to(root)): p.read_bytes() for p in sorted(base.rglob("*")) if p.is_file()
     }
+
+
+def _first_difference(a: bytes, b: bytes, context: int = 40) -> str:
+    i = next((k for k, (x, y) in enumerate(zip(a, b, strict=False)) if x != y), min(len(a), len(b)))
+    lo = max(0, i - context)
+    return (
+        f"{len(a)} vs {len(b)} bytes, first difference at byte {i}: "
+        f"SLURM {a[lo : i + context]!r} / local {b[lo : i + context]!r}"
+    )
 
 
 # --------------------------------------------------------------------------------------
@@ -219,11 +238,21 @@ def smoke_runs(slurm_cluster, tmp_path_factory, request):
     on_slurm = copy_workflow(tmp_path_factory.mktemp("smoke-slurm"))
     local = copy_workflow(tmp_path_factory.mktemp("smoke-local"))
 
-    slurm_run = snakemake(on_slurm, "--profile", str(PROFILE_TEST), "--configfile", SMOKE)
+    # Results record the git commit; pin it so that a commit landing between the two runs
+    # does not make them differ (it also travels to the SLURM jobs via sbatch --export=ALL).
+    env = {}
+    try:
+        from morphlearn.provenance import git_commit
+
+        env["MORPHLEARN_GIT_COMMIT"] = git_commit()
+    except ImportError:
+        pass
+
+    slurm_run = snakemake(on_slurm, "--profile", str(PROFILE_TEST), "--configfile", SMOKE, env=env)
     _require_ok(slurm_run, "SLURM smoke run")
     _say(request, f"smoke run through SLURM: {slurm_run.seconds:.1f} s")
 
-    local_run = snakemake(local, "--cores", "2", "--configfile", SMOKE)
+    local_run = snakemake(local, "--cores", "2", "--configfile", SMOKE, env=env)
     _require_ok(local_run, "local smoke run")
     _say(request, f"smoke run locally (--cores 2): {local_run.seconds:.1f} s")
     return {"slurm": (on_slurm, slurm_run), "local": (local, local_run)}
@@ -260,7 +289,9 @@ def test_smoke_slurm_matches_local_bit_for_bit(smoke_runs):
             f" only local: {sorted(set(b) - set(a))}"
         )
         differing = [path for path in a if a[path] != b[path]]
-        assert not differing, f"{rel}: files differ between SLURM and local: {differing}"
+        assert not differing, f"{rel}: files differ between SLURM and local:\n" + "\n".join(
+            f"  {path}: {_first_difference(a[path], b[path])}" for path in differing
+        )
 
 
 @pytest.mark.slow
