@@ -100,9 +100,7 @@ class DesignGrid:
         for name, v in zip(("l1.x", "l1.y", "l2.x", "l2.y"), (*l1, *l2), strict=True):
             hit = np.flatnonzero(np.isclose(self.axis, v, atol=1e-12))
             if hit.size != 1:
-                raise ValueError(
-                    f"{name}={v} is not on the {self.n}-point grid {self.axis.tolist()}"
-                )
+                raise ValueError(f"{name}={v} is not on the {self.n}-point grid {self.axis.tolist()}")
             out.append(int(hit[0]))
         return int(self.flat(np.array(out)))
 

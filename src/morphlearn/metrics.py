@@ -59,8 +59,8 @@ class DesignMetrics:
     per_env: list[int]
     generalists: int
     at_least_one: int
-    M_L: float  # noqa: N815 - the paper's name
-    M_CF: float  # noqa: N815
+    M_L: float
+    M_CF: float
     flagged: int
 
     def as_dict(self) -> dict:

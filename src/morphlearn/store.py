@@ -125,13 +125,11 @@ def read_shard(path: str | Path) -> Shard:
             return Shard(path, ds["design"].values.astype(np.int64), arrays, dict(ds.attrs))
     except ShardError:
         raise
-    except Exception as e:  # noqa: BLE001 - any read failure means an unusable shard
+    except Exception as e:
         raise ShardError(f"shard {path}: unreadable or truncated ({type(e).__name__}: {e})") from None
 
 
-def verify_shard(
-    shard: Shard, *, model: str, science: dict[str, Any], designs: np.ndarray, m: int
-) -> None:
+def verify_shard(shard: Shard, *, model: str, science: dict[str, Any], designs: np.ndarray, m: int) -> None:
     """Refuse a shard that is foreign, incomplete or damaged."""
     p = shard.path
     if shard.attrs.get("model") != model:
@@ -189,9 +187,15 @@ def merge_shards(
             _arr(root, c, coords[:, i], ("design",))
         shape = (len(all_designs), 4, m, m)
         data = {
-            k: root.create_array(k, shape=shape, chunks=(1, 4, m, m), dtype=FILL[k].dtype,
-                                 fill_value=FILL[k], dimension_names=DIMS,
-                                 attributes={"coordinates": "l1x l1y l2x l2y"})  # fmt: skip
+            k: root.create_array(
+                k,
+                shape=shape,
+                chunks=(1, 4, m, m),
+                dtype=FILL[k].dtype,
+                fill_value=FILL[k],
+                dimension_names=DIMS,
+                attributes={"coordinates": "l1x l1y l2x l2y"},
+            )
             for k in VARS
         }
         pos = {int(d): i for i, d in enumerate(all_designs)}

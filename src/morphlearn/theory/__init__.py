@@ -22,7 +22,7 @@ class TheoryParams:
     rtol: float = 1e-8
     atol: float = 1e-8
     dt: float = 0.01
-    max_steps: int = 2_000_000
+    max_steps: int = 100_000
 
     @classmethod
     def from_config(cls, th: dict[str, Any]) -> TheoryParams:

@@ -49,7 +49,7 @@ E1, E3, E4, E5, E6, E7 = (
 )
 
 
-def rhs(x, y, c, s, l1x, l1y, l2x, l2y, w1, w2):  # noqa: ANN001, ANN201 (compiled)
+def rhs(x, y, c, s, l1x, l1y, l2x, l2y, w1, w2):
     """Time derivative of (x, y, c, s) with the light at the origin."""
     p1x = x + c * l1x - s * l1y
     p1y = y + s * l1x + c * l1y
@@ -62,7 +62,7 @@ def rhs(x, y, c, s, l1x, l1y, l2x, l2y, w1, w2):  # noqa: ANN001, ANN201 (compil
     return v * c, v * s, -s * om, c * om
 
 
-def _lin1(y, h, a1, k1):  # noqa: ANN001, ANN202
+def _lin1(y, h, a1, k1):
     return (
         y[0] + h * (a1 * k1[0]),
         y[1] + h * (a1 * k1[1]),
@@ -71,7 +71,7 @@ def _lin1(y, h, a1, k1):  # noqa: ANN001, ANN202
     )
 
 
-def _lin2(y, h, a1, k1, a2, k2):  # noqa: ANN001, ANN202
+def _lin2(y, h, a1, k1, a2, k2):
     return (
         y[0] + h * (a1 * k1[0] + a2 * k2[0]),
         y[1] + h * (a1 * k1[1] + a2 * k2[1]),
@@ -80,7 +80,7 @@ def _lin2(y, h, a1, k1, a2, k2):  # noqa: ANN001, ANN202
     )
 
 
-def _lin3(y, h, a1, k1, a2, k2, a3, k3):  # noqa: ANN001, ANN202
+def _lin3(y, h, a1, k1, a2, k2, a3, k3):
     return (
         y[0] + h * (a1 * k1[0] + a2 * k2[0] + a3 * k3[0]),
         y[1] + h * (a1 * k1[1] + a2 * k2[1] + a3 * k3[1]),
@@ -89,7 +89,7 @@ def _lin3(y, h, a1, k1, a2, k2, a3, k3):  # noqa: ANN001, ANN202
     )
 
 
-def _lin4(y, h, a1, k1, a2, k2, a3, k3, a4, k4):  # noqa: ANN001, ANN202
+def _lin4(y, h, a1, k1, a2, k2, a3, k3, a4, k4):
     return (
         y[0] + h * (a1 * k1[0] + a2 * k2[0] + a3 * k3[0] + a4 * k4[0]),
         y[1] + h * (a1 * k1[1] + a2 * k2[1] + a3 * k3[1] + a4 * k4[1]),
@@ -98,7 +98,7 @@ def _lin4(y, h, a1, k1, a2, k2, a3, k3, a4, k4):  # noqa: ANN001, ANN202
     )
 
 
-def _lin5(y, h, a1, k1, a2, k2, a3, k3, a4, k4, a5, k5):  # noqa: ANN001, ANN202
+def _lin5(y, h, a1, k1, a2, k2, a3, k3, a4, k4, a5, k5):
     return (
         y[0] + h * (a1 * k1[0] + a2 * k2[0] + a3 * k3[0] + a4 * k4[0] + a5 * k5[0]),
         y[1] + h * (a1 * k1[1] + a2 * k2[1] + a3 * k3[1] + a4 * k4[1] + a5 * k5[1]),
@@ -107,7 +107,7 @@ def _lin5(y, h, a1, k1, a2, k2, a3, k3, a4, k4, a5, k5):  # noqa: ANN001, ANN202
     )
 
 
-def _err_norm(y, yn, e, rtol, atol):  # noqa: ANN001, ANN202
+def _err_norm(y, yn, e, rtol, atol):
     acc = 0.0
     for i in range(4):
         sc = atol + rtol * max(abs(y[i]), abs(yn[i]))
@@ -116,7 +116,7 @@ def _err_norm(y, yn, e, rtol, atol):  # noqa: ANN001, ANN202
     return math.sqrt(acc / 4.0)
 
 
-def _chord(x0, y0, x1, y1, t0, h, radius, dmin):  # noqa: ANN001, ANN202
+def _chord(x0, y0, x1, y1, t0, h, radius, dmin):
     """Closest approach of the chord to the light; first entry time into the success circle.
 
     Returns ``(new_dmin, t_hit)`` with ``t_hit = -1`` when the chord does not enter the circle.
@@ -144,18 +144,16 @@ def _chord(x0, y0, x1, y1, t0, h, radius, dmin):  # noqa: ANN001, ANN202
     return dmin, t_hit
 
 
-def _finite(y):  # noqa: ANN001, ANN202
-    return (
-        math.isfinite(y[0]) and math.isfinite(y[1]) and math.isfinite(y[2]) and math.isfinite(y[3])
-    )
+def _finite(y):
+    return math.isfinite(y[0]) and math.isfinite(y[1]) and math.isfinite(y[2]) and math.isfinite(y[3])
 
 
-def _normalise(y):  # noqa: ANN001, ANN202
+def _normalise(y):
     n = math.sqrt(y[2] * y[2] + y[3] * y[3])
     return y[0], y[1], y[2] / n, y[3] / n
 
 
-def trajectory(x0, y0, l1x, l1y, l2x, l2y, w1, w2, radius, horizon, method, rtol, atol, dt, max_steps):  # noqa: ANN001, ANN201, E501
+def trajectory(x0, y0, l1x, l1y, l2x, l2y, w1, w2, radius, horizon, method, rtol, atol, dt, max_steps):
     """Integrate one trajectory from ``(x0, y0)`` facing +x.
 
     Returns ``(first_time, min_dist, status, steps)``; ``first_time`` is NaN without success.

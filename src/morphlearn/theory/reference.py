@@ -25,7 +25,7 @@ class ReferenceTrajectory:
     path: np.ndarray  # (len(t), 3): x, y, alpha (light at the origin)
 
 
-def _rhs(l1: np.ndarray, l2: np.ndarray, w1: float, w2: float):  # noqa: ANN202
+def _rhs(l1: np.ndarray, l2: np.ndarray, w1: float, w2: float):
     def f(_t: float, z: np.ndarray) -> list[float]:
         x, y, a = z
         c, s = np.cos(a), np.sin(a)

@@ -1,0 +1,23 @@
+# morphlearn: sensor placement vs controller learnability (see README.md).
+import sys
+
+from snakemake.utils import min_version
+
+# The package lives in src/; the workflow runs from a clone without installing it.
+sys.path.insert(0, f"{workflow.basedir}/src")
+
+min_version("9.0")
+
+
+configfile: "config.yaml"
+
+
+include: "workflow/rules/common.smk"
+include: "workflow/rules/theory.smk"
+include: "workflow/rules/analysis.smk"
+
+
+rule all:
+    default_target: True
+    input:
+        ALL_TARGETS,

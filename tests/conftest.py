@@ -1,0 +1,49 @@
+"""Shared fixtures: the repository root and a throw-away copy of the workflow to run in."""
+
+from __future__ import annotations
+
+import os
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parents[1]
+WORKFLOW_FILES = ("Snakefile", "config.yaml", "config", "workflow", "src", "envs", "notebooks",
+                  "profiles")  # fmt: skip
+
+
+def copy_workflow(dest: Path) -> Path:
+    """Copy what a user's clone holds (no results) into ``dest``."""
+    dest.mkdir(parents=True, exist_ok=True)
+    for name in WORKFLOW_FILES:
+        src = ROOT / name
+        if src.is_dir():
+            shutil.copytree(src, dest / name, ignore=shutil.ignore_patterns("__pycache__", "*.nbi", "*.nbc"))
+        elif src.exists():
+            shutil.copy2(src, dest / name)
+    return dest
+
+
+def snakemake(
+    workdir: Path, *args: str, timeout: int = 900, check: bool = True
+) -> subprocess.CompletedProcess:
+    exe = Path(sys.executable).with_name("snakemake")
+    env = dict(os.environ, MORPHLEARN_GIT_COMMIT="test")
+    proc = subprocess.run([str(exe), *args], cwd=workdir, capture_output=True, text=True,
+                          timeout=timeout, env=env)  # fmt: skip
+    if check and proc.returncode != 0:
+        raise AssertionError(
+            f"snakemake {' '.join(args)} failed:\n{proc.stdout[-3000:]}\n{proc.stderr[-3000:]}"
+        )
+    return proc
+
+
+@pytest.fixture(scope="session")
+def smoke_run(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    """One smoke run of the workflow, shared by the tests that only read its results."""
+    wd = copy_workflow(tmp_path_factory.mktemp("smoke"))
+    snakemake(wd, "--cores", "2", "--configfile", "config/smoke.yaml")
+    return wd

@@ -1,0 +1,53 @@
+"""Write envs/*.yaml (per-rule conda environments) from requirements.lock, so they agree.
+
+Run after changing the lock: ``python tools/make_envs.py``; tests/test_envs.py checks agreement.
+"""
+
+from __future__ import annotations
+
+import re
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+CORE = ["numpy", "scipy", "numba", "xarray", "zarr", "pandas", "pyyaml", "jsonschema", "tqdm"]
+ENVS = {
+    "theory": CORE,
+    "analysis": CORE,
+    "empirical": [*CORE, "pybullet", "pymoo"],
+    "figures": [*CORE, "pybullet", "matplotlib", "seaborn", "papermill", "nbconvert", "ipykernel"],
+}
+
+
+def lock() -> dict[str, str]:
+    pins = {}
+    for line in (ROOT / "requirements.lock").read_text().splitlines():
+        m = re.match(r"^([A-Za-z0-9_.\-]+)==([^\s;]+)", line)
+        if m:
+            pins[m.group(1).lower()] = m.group(2)
+    return pins
+
+
+def render(name: str, pkgs: list[str], pins: dict[str, str]) -> str:
+    lines = [
+        f"# Conda environment for the {name} rules (snakemake --sdm conda).",
+        "# Generated from requirements.lock by tools/make_envs.py: do not edit by hand.",
+        f"name: morphlearn-{name}",
+        "channels:",
+        "  - conda-forge",
+        "dependencies:",
+        "  - python=3.11",
+        "  - pip",
+        "  - pip:",
+    ]
+    lines += [f"      - {p}=={pins[p]}" for p in pkgs]
+    return "\n".join(lines) + "\n"
+
+
+def main() -> None:
+    pins = lock()
+    for name, pkgs in ENVS.items():
+        (ROOT / "envs" / f"{name}.yaml").write_text(render(name, pkgs, pins))
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,10 @@
+#!/usr/bin/env bash
+# The project's checks: linters, workflow lint, then the test suite.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+export PATH="$PWD/.venv/bin:$PATH"
+echo "== ruff"; ruff check .
+echo "== snakefmt"; snakefmt --check Snakefile workflow/rules/
+echo "== snakemake --lint"; snakemake --lint --cores 1 >/dev/null
+echo "== dry run of the full config"; snakemake -n --configfile config/full.yaml --quiet rules >/dev/null
+echo "== pytest"; python -m pytest -q -ra "$@"

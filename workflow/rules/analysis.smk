@@ -1,0 +1,66 @@
+# Merge shards, compute metrics, summarise: cheap, so local on clusters.
+
+
+localrules:
+    merge,
+    metrics,
+    summary,
+
+
+rule merge:
+    input:
+        lambda w: expand(
+            f"{R}/{w.model}/shards/shard_{{shard}}.nc", shard=shard_ids(w.model)
+        ),
+    output:
+        directory(f"{R}/{{model}}/merged.zarr"),
+    log:
+        f"{R}/logs/{{model}}/merge.log",
+    benchmark:
+        f"{R}/benchmarks/{{model}}/merge.tsv"
+    wildcard_constraints:
+        model="theory|empirical",
+    conda:
+        "../../envs/analysis.yaml"
+    params:
+        science=lambda w: cfgmod.digest(pipeline.science(CFG, w.model)),
+    script:
+        "../scripts/merge.py"
+
+
+rule metrics:
+    input:
+        f"{R}/{{model}}/merged.zarr",
+    output:
+        table=f"{R}/{{model}}/metrics.csv",
+        provenance=f"{R}/{{model}}/metrics.provenance.json",
+    log:
+        f"{R}/logs/{{model}}/metrics.log",
+    benchmark:
+        f"{R}/benchmarks/{{model}}/metrics.tsv"
+    wildcard_constraints:
+        model="theory|empirical",
+    conda:
+        "../../envs/analysis.yaml"
+    params:
+        thresholds=lambda w: pipeline.thresholds(CFG, w.model).__dict__,
+    script:
+        "../scripts/metrics.py"
+
+
+rule summary:
+    input:
+        theory=f"{R}/theory/metrics.csv",
+    output:
+        json=f"{R}/summary.json",
+        md=f"{R}/summary.md",
+    log:
+        f"{R}/logs/summary.log",
+    benchmark:
+        f"{R}/benchmarks/summary.tsv"
+    conda:
+        "../../envs/analysis.yaml"
+    params:
+        top=CFG["analysis"]["top"],
+    script:
+        "../scripts/summary.py"

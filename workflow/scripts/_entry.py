@@ -1,0 +1,18 @@
+"""Shared prologue of the rule scripts: log to the rule's log, thread count, validated config."""
+
+import os
+import sys
+from pathlib import Path
+from typing import Any
+
+
+def setup(smk: Any) -> dict:
+    sys.path.insert(0, str(Path(smk.scriptdir).parents[1] / "src"))
+    # Numba reads its thread count at import: set it before morphlearn imports numba.
+    os.environ["NUMBA_NUM_THREADS"] = str(max(1, int(getattr(smk, "threads", 1))))
+    log = open(smk.log[0], "w", buffering=1)
+    sys.stderr = log
+    sys.stdout = log
+    from morphlearn import config as cfgmod
+
+    return cfgmod.validate(dict(smk.config))
