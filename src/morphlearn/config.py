@@ -84,6 +84,9 @@ def _check_cross(cfg: dict[str, Any]) -> None:
             f"sweep.shards = {cfg['sweep']['shards']} exceeds the {n_eval} designs evaluated; "
             f"allowed: 1..{n_eval}"
         )
+    emp = cfg.get("empirical")
+    if emp and emp.get("enabled"):
+        _check_empirical(cfg, g)
     a = cfg["analysis"]
     th = cfg["theory"]
     if a.get("horizon") is not None and a["horizon"] > th["horizon"]:
@@ -91,6 +94,49 @@ def _check_cross(cfg: dict[str, Any]) -> None:
             f"analysis.horizon = {a['horizon']} exceeds theory.horizon = {th['horizon']}; "
             f"allowed: <= {th['horizon']} (or raise theory.horizon and re-simulate)"
         )
+
+
+def _check_empirical(cfg: dict[str, Any], g: Any) -> None:
+    from morphlearn.empirical.params import EmpiricalParams
+
+    emp = cfg["empirical"]
+    for k in emp.get("params", {}):
+        if k not in EmpiricalParams.__dataclass_fields__:
+            raise ConfigError(
+                f"unknown key ['{k}'] under 'empirical.params'; "
+                f"allowed: {sorted(EmpiricalParams.__dataclass_fields__)}"
+            )
+    try:
+        EmpiricalParams.from_mapping(emp.get("params", {}))
+    except ValueError as e:
+        raise ConfigError(f"empirical.params.{e}") from None
+    designs = emp["designs"]
+    if designs != "all":
+        for i, (l1, l2) in enumerate(designs):
+            try:
+                g.index_of(tuple(l1), tuple(l2))
+            except ValueError as e:
+                raise ConfigError(f"empirical.designs.{i}: {e}") from None
+    n = len(empirical_designs(cfg))
+    if emp["shards"] > n:
+        raise ConfigError(f"empirical.shards = {emp['shards']} exceeds the {n} designs simulated; "
+                          f"allowed: 1..{n}")  # fmt: skip
+
+
+def empirical_designs(cfg: dict[str, Any]) -> list[int]:
+    """Sorted design indices the empirical sweep simulates."""
+    import numpy as np
+
+    from morphlearn.grid import DesignGrid
+
+    g = DesignGrid(cfg["grid"]["positions_per_axis"])
+    emp = cfg["empirical"]
+    if emp["designs"] == "all":
+        return list(range(g.size))
+    d = np.array([g.index_of(tuple(l1), tuple(l2)) for l1, l2 in emp["designs"]])
+    if emp["include_mirrors"]:
+        d = np.concatenate([d, g.mirror(d)])
+    return sorted(set(int(x) for x in d))
 
 
 def load(path: str | Path, overrides: list[str | Path] = ()) -> dict[str, Any]:
@@ -129,6 +175,18 @@ def canonical_json(obj: Any) -> str:
 def digest(obj: Any) -> str:
     """SHA-256 of the canonical JSON of ``obj``: the identity of a science config subset."""
     return hashlib.sha256(canonical_json(obj).encode()).hexdigest()
+
+
+def empirical_science(cfg: dict[str, Any], morphology: dict[str, Any]) -> dict[str, Any]:
+    """The config subset that determines the empirical sweep's numbers."""
+    emp = cfg["empirical"]
+    return {
+        "model": "empirical",
+        "positions_per_axis": cfg["grid"]["positions_per_axis"],
+        "weights": emp["weights"],
+        "designs": empirical_designs(cfg),
+        "params": {**morphology, **emp.get("params", {})},
+    }
 
 
 def theory_science(cfg: dict[str, Any]) -> dict[str, Any]:

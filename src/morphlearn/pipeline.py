@@ -14,45 +14,92 @@ from morphlearn import grid as gridmod
 from morphlearn import metrics, provenance, store
 from morphlearn.theory import TheoryParams, evaluate
 
-MODELS = ("theory",)
+MODELS = ("theory", "empirical")
 
 
-def designs_to_evaluate(cfg: dict[str, Any]) -> np.ndarray:
+def models(cfg: dict[str, Any]) -> list[str]:
+    """The models this config runs."""
+    return ["theory"] + (["empirical"] if cfg["empirical"].get("enabled") else [])
+
+
+def designs_to_evaluate(cfg: dict[str, Any], model: str = "theory") -> np.ndarray:
+    if model == "empirical":
+        return np.array(cfgmod.empirical_designs(cfg), dtype=np.int64)
     g = gridmod.DesignGrid(cfg["grid"]["positions_per_axis"])
     return g.representatives() if cfg["sweep"]["mirror_symmetry"] else np.arange(g.size)
 
 
-def shard_designs(cfg: dict[str, Any]) -> list[np.ndarray]:
-    return gridmod.split_shards(designs_to_evaluate(cfg), cfg["sweep"]["shards"])
+def shard_designs(cfg: dict[str, Any], model: str = "theory") -> list[np.ndarray]:
+    n = cfg["empirical"]["shards"] if model == "empirical" else cfg["sweep"]["shards"]
+    return gridmod.split_shards(designs_to_evaluate(cfg, model), n)
+
+
+def weights(cfg: dict[str, Any], model: str) -> np.ndarray:
+    m = cfg["empirical"]["weights"] if model == "empirical" else cfg["grid"]["weights"]
+    return gridmod.weights(m)
+
+
+def empirical_params(cfg: dict[str, Any]) -> Any:
+    from morphlearn.empirical import EmpiricalParams, load_params
+
+    base = load_params(cfg["empirical"]["morphology"])
+    return EmpiricalParams.from_mapping({**base.to_dict(), **cfg["empirical"].get("params", {})})
 
 
 def science(cfg: dict[str, Any], model: str) -> dict[str, Any]:
     if model == "theory":
         return cfgmod.theory_science(cfg)
+    if model == "empirical":
+        from morphlearn.empirical import load_params
+
+        return cfgmod.empirical_science(cfg, load_params(cfg["empirical"]["morphology"]).to_dict())
     raise ValueError(f"unknown model {model!r}; allowed: {MODELS}")
+
+
+def mirror_derived(cfg: dict[str, Any], model: str) -> bool:
+    """Theory mirror images are derived (exact); empirical ones are simulated."""
+    return model == "theory" and cfg["sweep"]["mirror_symmetry"]
+
+
+def evaluate_designs(cfg: dict[str, Any], model: str, designs: np.ndarray) -> list:
+    g = gridmod.DesignGrid(cfg["grid"]["positions_per_axis"])
+    w = weights(cfg, model)
+    if model == "theory":
+        return evaluate(g.coords(designs), w, TheoryParams.from_config(cfg["theory"]), progress=True)
+    from tqdm import tqdm
+
+    from morphlearn.empirical import evaluate_design
+
+    params = empirical_params(cfg)
+    out = []
+    for c in tqdm(g.coords(designs), unit="design", mininterval=1.0):
+        out.append(evaluate_design((c[0], c[1]), (c[2], c[3]), w, params))
+    return out
 
 
 def run_shard(cfg: dict[str, Any], model: str, shard: int, out: str | Path) -> None:
     g = gridmod.DesignGrid(cfg["grid"]["positions_per_axis"])
-    w = gridmod.weights(cfg["grid"]["weights"])
-    designs = shard_designs(cfg)[shard]
+    designs = shard_designs(cfg, model)[shard]
     sci = science(cfg, model)
-    results = evaluate(g.coords(designs), w, TheoryParams.from_config(cfg["theory"]), progress=True)
-    store.write_shard(out, model=model, grid=g, weights=w, designs=designs, results=results,
-                      science=sci, provenance=provenance.record(sci))  # fmt: skip
+    results = evaluate_designs(cfg, model, designs)
+    store.write_shard(out, model=model, grid=g, weights=weights(cfg, model), designs=designs,
+                      results=results, science=sci, provenance=provenance.record(sci))  # fmt: skip
 
 
 def run_merge(cfg: dict[str, Any], model: str, shards: list[str], out: str | Path) -> None:
     g = gridmod.DesignGrid(cfg["grid"]["positions_per_axis"])
     sci = science(cfg, model)
     store.merge_shards(
-        shards, out, model=model, grid=g, weights=gridmod.weights(cfg["grid"]["weights"]),
-        shard_designs=shard_designs(cfg), science=sci, mirror=cfg["sweep"]["mirror_symmetry"],
+        shards, out, model=model, grid=g, weights=weights(cfg, model),
+        shard_designs=shard_designs(cfg, model), science=sci, mirror=mirror_derived(cfg, model),
         provenance=provenance.record(sci, shards),
     )  # fmt: skip
 
 
 def thresholds(cfg: dict[str, Any], model: str) -> metrics.Thresholds:
+    if model == "empirical":  # success = touching the light within the episode
+        p = empirical_params(cfg)
+        return metrics.Thresholds(p.horizon, p.contact_distance, p.horizon, p.contact_distance)
     th = cfg["theory"]
     a = cfg["analysis"]
     return metrics.Thresholds(
@@ -115,7 +162,7 @@ def run_summary(cfg: dict[str, Any], tables: dict[str, str], out_json: str | Pat
     for model, path in tables.items():
         t = pd.read_csv(path)
         s = summarise(t, cfg["analysis"]["top"])
-        s["controllers"] = cfg["grid"]["weights"] ** 2
+        s["controllers"] = len(weights(cfg, model)) ** 2
         summary[model] = s
     with store.atomic_path(out_json) as tmp:
         tmp.write_text(json.dumps(summary, indent=1, sort_keys=True) + "\n")

@@ -50,7 +50,7 @@ rule metrics:
 
 rule summary:
     input:
-        theory=f"{R}/theory/metrics.csv",
+        **{m: f"{R}/{m}/metrics.csv" for m in MODELS},
     output:
         json=f"{R}/summary.json",
         md=f"{R}/summary.md",

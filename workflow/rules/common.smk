@@ -11,7 +11,8 @@ except cfgmod.ConfigError as err:
     sys.exit(2)
 
 R = CFG["results_dir"]
-SHARDS = {"theory": pipeline.shard_designs(CFG)}
+MODELS = pipeline.models(CFG)
+SHARDS = {m: pipeline.shard_designs(CFG, m) for m in MODELS}
 
 
 def shard_ids(model):
@@ -27,6 +28,6 @@ def shard_params(model):
 
 
 ALL_TARGETS = [
-    f"{R}/theory/metrics.csv",
+    *(f"{R}/{m}/metrics.csv" for m in MODELS),
     f"{R}/summary.md",
 ]
