@@ -3,6 +3,7 @@ import subprocess
 import sys
 
 import pytest
+from conftest import ROOT
 
 from morphlearn.cli import main
 
@@ -33,3 +34,25 @@ def test_bad_arguments_exit_2_with_one_line(args: list[str], msg: str) -> None:
     assert proc.returncode == 2
     assert msg in proc.stderr and proc.stderr.count("\n") == 1
     assert proc.stdout == ""
+
+
+def test_empirical_design_json_is_clean_stdout() -> None:
+    # pybullet prints a banner from C at import; stdout must still be exactly one JSON object.
+    proc = subprocess.run(
+        [sys.executable, "-m", "morphlearn.cli", "design", "--model", "empirical",
+         "--l1", "0.5", "0.5", "--l2", "0.5", "-0.5", "--weights", "2", "--json"],
+        capture_output=True, text=True, cwd=ROOT,
+    )  # fmt: skip
+    assert proc.returncode == 0, proc.stderr
+    out = json.loads(proc.stdout)
+    assert set(out) == {"per_env", "generalists", "at_least_one", "M_L", "M_CF"}
+    assert out["generalists"] >= 1  # w = (1, 1) reaches all four lights with the committed body
+
+
+def test_missing_morphology_file() -> None:
+    proc = subprocess.run(
+        [sys.executable, "-m", "morphlearn.cli", "design", "--model", "empirical", "--l1", "0.5", "0.5",
+         "--l2", "0.5", "-0.5", "--morphology", "nope.yaml"],
+        capture_output=True, text=True, cwd=ROOT,
+    )  # fmt: skip
+    assert proc.returncode == 2 and "--morphology nope.yaml: no such file" in proc.stderr

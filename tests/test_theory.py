@@ -20,7 +20,7 @@ STARTS = grid.env_starts(P.r)
 def _reference(args: tuple) -> tuple[float, float, int]:
     d, w1, w2, e = args
     r = reference_trajectory(STARTS[e], d[:2], d[2:], w1, w2, radius=P.success_radius,
-                             horizon=P.horizon)  # fmt: skip
+                             horizon=P.horizon, max_nfev=300_000)  # fmt: skip
     return r.first_time, r.min_dist, r.status
 
 
@@ -29,9 +29,9 @@ def near_boundary(ref_time: float, ref_dist: float, ref_status: int, status: int
     the chord test's resolution of the success radius, success happens at the horizon, or either
     side stopped the integration (singular trajectories)."""
     return (
-        abs(ref_dist - P.success_radius) < 2e-3
+        ref_status != 0
+        or abs(ref_dist - P.success_radius) < 2e-3
         or (not math.isnan(ref_time) and P.horizon - ref_time < 1.0)
-        or ref_status != 0
         or status != 0
     )
 

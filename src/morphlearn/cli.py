@@ -3,14 +3,32 @@
 from __future__ import annotations
 
 import argparse
+import ctypes
 import json
+import os
 import sys
-from collections.abc import Sequence
+from collections.abc import Iterator, Sequence
+from contextlib import contextmanager
 
 import numpy as np
 
 from morphlearn import grid as gridmod
 from morphlearn.metrics import design_metrics
+
+
+@contextmanager
+def _c_stdout_to_stderr() -> Iterator[None]:
+    """Send what C libraries print to stdout (pybullet's banner) to stderr, so ``--json`` output
+    stays one JSON object."""
+    sys.stdout.flush()
+    saved = os.dup(1)
+    os.dup2(2, 1)
+    try:
+        yield
+    finally:
+        ctypes.CDLL(None).fflush(None)  # C stdio buffers, before fd 1 is restored
+        os.dup2(saved, 1)
+        os.close(saved)
 
 
 class UsageError(ValueError):
@@ -49,10 +67,15 @@ def cmd_design(a: argparse.Namespace) -> int:
         )
         res = evaluate(np.array([[*l1, *l2]]), w, p, progress=not a.json)[0]
     else:
-        from morphlearn.empirical import evaluate_design, load_params  # type: ignore[attr-defined]
+        with _c_stdout_to_stderr():
+            from morphlearn.empirical import evaluate_design, load_params
 
-        params = load_params(a.morphology)
-        res = evaluate_design(l1, l2, w, params, progress=not a.json)
+        from pathlib import Path
+
+        if not Path(a.morphology).is_file():
+            raise UsageError(f"--morphology {a.morphology}: no such file (a YAML of body parameters)")
+        with _c_stdout_to_stderr():
+            res = evaluate_design(l1, l2, w, load_params(a.morphology))
     dm = design_metrics(~np.isnan(res.first_time), res.status)
     out = {"per_env": dm.per_env, "generalists": dm.generalists,
            "at_least_one": dm.at_least_one, "M_L": dm.M_L, "M_CF": dm.M_CF}  # fmt: skip
@@ -78,7 +101,11 @@ def build_parser() -> argparse.ArgumentParser:
     d.add_argument("--r", type=float, default=None, help="light distance (theory: 4)")
     d.add_argument("--horizon", type=float, default=None, help="simulated time (theory: 500)")
     d.add_argument("--dt", type=float, default=None, help="use fixed-step RK4 with this step")
-    d.add_argument("--morphology", default=None, help="empirical: body parameters YAML")
+    d.add_argument(
+        "--morphology",
+        default="config/empirical_morphology.yaml",
+        help="empirical: body parameters YAML (default: the committed morphology)",
+    )
     d.add_argument("--json", action="store_true", help="print one JSON object")
     d.set_defaults(func=cmd_design)
     return p

@@ -13,7 +13,11 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.integrate import solve_ivp
 
-from morphlearn.results import STATUS_OK, STATUS_STEP_UNDERFLOW
+from morphlearn.results import STATUS_OK, STATUS_STEP_CAP, STATUS_STEP_UNDERFLOW
+
+
+class _EvaluationCapError(Exception):
+    """Raised inside the right-hand side when a trajectory exceeds its evaluation budget."""
 
 
 @dataclass
@@ -51,9 +55,15 @@ def reference_trajectory(
     tol: float = 1e-10,
     stop_at_success: bool = True,
     max_points: int = 20000,
+    max_nfev: int = 2_000_000,
 ) -> ReferenceTrajectory:
-    """Integrate one trajectory from ``start`` facing +x with the light at the origin."""
-    f = _rhs(np.asarray(l1, float), np.asarray(l2, float), float(w1), float(w2))
+    """Integrate one trajectory from ``start`` facing +x with the light at the origin.
+
+    The model's singular trajectories (a sensor carried into the light) make any integrator
+    stall; after ``max_nfev`` right-hand-side evaluations the trajectory is stopped and returned
+    with ``STATUS_STEP_CAP`` (a failure), like the fast kernel's step cap.
+    """
+    f = _rhs(np.asarray(l1, float), np.asarray(l2, float), float(w1), float(w2), max_nfev)
 
     def hit(_t: float, z: np.ndarray) -> float:
         return float(np.hypot(z[0], z[1]) - radius)
@@ -66,8 +76,11 @@ def reference_trajectory(
         return float(z[0] * np.cos(z[2]) + z[1] * np.sin(z[2]))
 
     z0 = [float(start[0]), float(start[1]), 0.0]
-    sol = solve_ivp(f, (0.0, horizon), z0, method=method, rtol=tol, atol=tol,
-                    events=(hit, approach), dense_output=False)  # fmt: skip
+    try:
+        sol = solve_ivp(f, (0.0, horizon), z0, method=method, rtol=tol, atol=tol,
+                        events=(hit, approach), dense_output=False)  # fmt: skip
+    except _EvaluationCapError:
+        return ReferenceTrajectory(float("nan"), float("nan"), STATUS_STEP_CAP, np.zeros(0), np.zeros((0, 3)))
     status = STATUS_OK if sol.status >= 0 else STATUS_STEP_UNDERFLOW
     d = np.hypot(sol.y[0], sol.y[1])
     cand = [d.min()]
