@@ -7,8 +7,10 @@ sensor 2 the LEFT wheel with ``w2``; ``motor = tanh(w * s)``; wheel target veloc
 Success: the body centre comes within ``0.5 + wheel_radius + light_radius`` (horizontal) of
 the light centre, i.e. the robot touches it; the first such step ``k`` gives time ``k * dt``.
 
-One pybullet world is reused for all episodes (``restoreState`` of a snapshot taken right
-after building); this is bit-for-bit identical to a fresh world per episode (tested).
+One pybullet client is reused for all episodes; each episode empties and rebuilds its world
+(``resetSimulation``, ~3.5 ms) because ``restoreState`` keeps the previous episode's contact
+manifolds and so is not repeatable bit for bit (see :func:`robot.rebuild`). Episodes are
+bit-for-bit identical to ones in a fresh client (tested).
 """
 
 from __future__ import annotations
@@ -21,7 +23,7 @@ import numpy as np
 import pybullet as pb
 
 from morphlearn.empirical.params import EmpiricalParams
-from morphlearn.empirical.robot import LEFT_WHEEL, RIGHT_WHEEL, World, build_world
+from morphlearn.empirical.robot import LEFT_WHEEL, RIGHT_WHEEL, World, build_world, rebuild
 from morphlearn.grid import light_positions
 from morphlearn.results import STATUS_NONFINITE, STATUS_OK, DesignResult
 
@@ -45,26 +47,24 @@ class Episode:
 
 
 class EpisodeRunner:
-    """Runs episodes in one reusable DIRECT-mode world. Use as a context manager."""
+    """Runs episodes in one reusable DIRECT-mode client. Use as a context manager.
+
+    ``reuse=False`` connects a new client per episode (the reference for determinism tests).
+    """
 
     def __init__(self, params: EmpiricalParams | None = None, *, reuse: bool = True) -> None:
         self.params = params or EmpiricalParams()
         self.reuse = reuse
         self.lights = light_positions(self.params.light_distance)
         self._world: World | None = None
-        self._state = -1
 
-    def _fresh(self) -> World:
-        if self._world is not None:
-            self._world.close()
-        self._world = build_world(self.params, tuple(self.lights[0]))
-        self._state = pb.saveState(physicsClientId=self._world.client)
-        return self._world
-
-    def _ready(self) -> World:
-        if self._world is None or not self.reuse:
-            return self._fresh()
-        pb.restoreState(self._state, physicsClientId=self._world.client)
+    def _ready(self, env: int) -> World:
+        light = (float(self.lights[env][0]), float(self.lights[env][1]))
+        if self._world is not None and self.reuse:
+            self._world = rebuild(self._world, light)
+        else:
+            self.close()
+            self._world = build_world(self.params, light)
         return self._world
 
     def close(self) -> None:
@@ -83,12 +83,9 @@ class EpisodeRunner:
     ) -> Episode:
         """One episode of design ``(l1, l2)`` with weights ``(w1, w2)`` in environment ``env``."""
         p = self.params
-        world = self._ready()
+        world = self._ready(env)
         c, robot = world.client, world.robot
         lx, ly = float(self.lights[env][0]), float(self.lights[env][1])
-        pb.resetBasePositionAndOrientation(
-            world.light, [lx, ly, p.light_radius], [0, 0, 0, 1], physicsClientId=c
-        )
         x1, y1 = float(l1[0]), float(l1[1])
         x2, y2 = float(l2[0]), float(l2[1])
         w1, w2 = float(w1), float(w2)
