@@ -29,8 +29,13 @@ class ReferenceTrajectory:
     path: np.ndarray  # (len(t), 3): x, y, alpha (light at the origin)
 
 
-def _rhs(l1: np.ndarray, l2: np.ndarray, w1: float, w2: float):
+def _rhs(l1: np.ndarray, l2: np.ndarray, w1: float, w2: float, max_nfev: int):
+    calls = [0]
+
     def f(_t: float, z: np.ndarray) -> list[float]:
+        calls[0] += 1
+        if calls[0] > max_nfev:
+            raise _EvaluationCapError
         x, y, a = z
         c, s = np.cos(a), np.sin(a)
         d1 = (x + c * l1[0] - s * l1[1]) ** 2 + (y + s * l1[0] + c * l1[1]) ** 2
