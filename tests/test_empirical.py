@@ -1,0 +1,152 @@
+"""Tests of the empirical (pybullet) model. Whole file: ~30 s on one core."""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+import pytest
+
+from morphlearn.empirical import EmpiricalParams, EpisodeRunner, evaluate_design, load_params
+from morphlearn.empirical.optimise import VARIABLES, optimise, select
+from morphlearn.grid import ENV_MIRROR, canonical_design
+
+MORPHOLOGY = Path(__file__).resolve().parents[1] / "config" / "empirical_morphology.yaml"
+
+
+@pytest.fixture(scope="module")
+def params() -> EmpiricalParams:
+    return load_params(MORPHOLOGY)
+
+
+def _same(a: object, b: object) -> bool:
+    """Equality that treats NaN as equal to NaN (episodes store NaN for 'no contact')."""
+    return repr(a) == repr(b)
+
+
+def test_episode_is_bit_for_bit_deterministic(params: EmpiricalParams) -> None:
+    l1, l2 = (-0.5, -0.25), (0.5, 0.25)
+    c1, c2 = canonical_design()
+    cases = [
+        (l1, l2, -0.8, 0.6, 2),
+        (c1, c2, 0.0, 0.0, 1),  # ends at the start point: stale contacts would leak (below)
+        (c1, c2, 1.0, 1.0, 1),
+        (l1, l2, 0.5, -1.0, 3),
+    ]
+    with EpisodeRunner(params) as reused:
+        first = [reused.run(*c, stop_at_contact=False) for c in cases]
+        again = [reused.run(*c, stop_at_contact=False) for c in reversed(cases)][::-1]
+    with EpisodeRunner(params, reuse=False) as fresh:
+        new = [fresh.run(*c, stop_at_contact=False) for c in cases]
+    assert all(_same(a, b) for a, b in zip(first, again, strict=True))
+    assert all(_same(a, b) for a, b in zip(first, new, strict=True))
+    # Stopping at contact changes nothing before it.
+    with EpisodeRunner(params) as runner:
+        stopped = runner.run(*cases[2])
+    assert stopped.first_time == first[2].first_time and stopped.steps <= first[2].steps
+
+
+def test_canonical_w11_reaches_all_four_lights(params: EmpiricalParams) -> None:
+    l1, l2 = canonical_design()
+    with EpisodeRunner(params) as runner:
+        eps = [runner.run(l1, l2, 1.0, 1.0, env) for env in range(4)]
+    assert [e.success for e in eps] == [True] * 4, eps
+    assert all(e.finite and math.degrees(e.max_tilt) < 30 for e in eps)
+
+
+def test_authors_body_reaches_only_the_front_lights() -> None:
+    l1, l2 = canonical_design()
+    with EpisodeRunner(EmpiricalParams()) as runner:
+        ok = [runner.run(l1, l2, 1.0, 1.0, env).success for env in range(4)]
+    assert ok == [True, False, False, True]  # 45 and 315 degrees are in front
+
+
+def test_mirror_symmetry_on_a_coarse_grid(params: EmpiricalParams) -> None:
+    # (l1, l2) with (w1, w2) in env k behaves as ((x2, -y2), (x1, -y1)) with (w2, w1) in
+    # ENV_MIRROR[k]. Bullet solves the left wheel's constraints before the right one's, so
+    # the physics is mirror-symmetric only to solver tolerance; success flags agree here.
+    l1, l2 = (-0.5, -0.25), (0.5, 0.25)
+    m1, m2 = (l2[0], -l2[1]), (l1[0], -l1[1])
+    w = np.array([-1.0, 0.0, 1.0])
+    a = evaluate_design(l1, l2, w, params)
+    b = evaluate_design(m1, m2, w, params)
+    b_mapped = b.first_time[list(ENV_MIRROR)].transpose(0, 2, 1)
+    flips = int((np.isnan(a.first_time) != np.isnan(b_mapped)).sum())
+    assert flips == 0
+    assert a.status.max() == 0 and b.status.max() == 0
+
+
+def test_evaluate_design_shapes_and_progress(params: EmpiricalParams) -> None:
+    calls: list[tuple[int, int]] = []
+    res = evaluate_design(
+        *canonical_design(), np.array([0.0, 1.0]), params, lambda d, t: calls.append((d, t))
+    )
+    assert res.first_time.shape == res.min_dist.shape == res.status.shape == (4, 2, 2)
+    assert calls[-1] == (16, 16) and len(calls) == 16
+    assert np.all(np.isnan(res.first_time[:, 0, 0]))  # w = 0: the robot never moves
+    # ... it only settles on its wheels and castor (millimetres) at the start
+    assert np.allclose(res.min_dist[:, 0, 0], params.light_distance, atol=0.01)
+    assert np.all(~np.isnan(res.first_time[:, 1, 1]))  # w = (1, 1) reaches every light
+
+
+@pytest.mark.parametrize(
+    ("values", "key"),
+    [
+        ({"body_mass": -1.0}, "body_mass"),
+        ({"wheel_mass": 0.0}, "wheel_mass"),
+        ({"wheel_radius": 0.0}, "wheel_radius"),
+        ({"dt": -0.05}, "dt"),
+        ({"steps": 0}, "steps"),
+        ({"steps": 2.5}, "steps"),
+        ({"wheel_radus": 0.2}, "wheel_radus"),
+    ],
+)
+def test_bad_params_name_the_key(values: dict[str, float], key: str) -> None:
+    with pytest.raises(ValueError, match=key) as err:
+        EmpiricalParams.from_mapping(values)
+    assert "allowed" in str(err.value)
+
+
+def test_unknown_key_lists_allowed_keys() -> None:
+    with pytest.raises(ValueError, match="body_mass"):
+        EmpiricalParams.from_mapping({"colour": "red"})
+
+
+def test_morphology_file_round_trips(params: EmpiricalParams) -> None:
+    assert EmpiricalParams.from_mapping(params.to_dict()) == params
+    assert params.contact_distance == 0.5 + params.wheel_radius + params.light_radius
+
+
+def test_selection_rule_prefers_robust_cheapest_full_success() -> None:
+    spec = [  # (lights reached, actuation, feasible, on the Pareto front)
+        (4, 5.0, False, True),  # unstable: never chosen
+        (4, 10.0, True, True),  # cheapest full success, but fragile
+        (4, 20.0, True, True),  # robust: chosen
+        (4, 30.0, True, True),  # not checked: a robust one came first
+        (2, 1.0, True, True),
+        (4, 8.0, True, False),  # off the front: only tried after every Pareto point
+    ]
+    rows = []
+    for i, (n, act, feas, front) in enumerate(spec):
+        row = {k: 1.0 + i for k in VARIABLES}
+        row.update(n_success=n, f_actuation=act, f_distance=1.0, feasible=feas, pareto=front)
+        rows.append(row)
+    table = pd.DataFrame(rows)
+    table["robust"] = np.nan
+    pick = select(table, lambda p: 12 if p.body_mass == 3.0 else 10)
+    assert pick == 2
+    assert table["robust"].tolist()[1:3] == [10, 12]
+    assert table["robust"].isna().tolist() == [True, False, False, True, True, True]
+    # No robust Pareto point: the off-front body is tried next, and wins if it is robust.
+    table["robust"] = np.nan
+    assert select(table, lambda p: 12 if p.body_mass == 6.0 else 11) == 5
+
+
+def test_optimise_is_deterministic_for_a_seed() -> None:
+    a, pa = optimise(4, seed=3, pop_size=4)
+    b, pb_ = optimise(4, seed=3, pop_size=4)
+    pd.testing.assert_frame_equal(a, b)
+    assert pa == pb_
+    assert set(VARIABLES) <= set(pa)
