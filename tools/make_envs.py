@@ -11,7 +11,7 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[1]
 CORE = ["numpy", "scipy", "numba", "xarray", "zarr", "pandas", "pyyaml", "jsonschema", "tqdm"]
 ENVS = {
-    "theory": CORE,
+    "theory": [*CORE, "numba-cuda"],  # numba-cuda: the GPU backend (theory.backend)
     "analysis": CORE,
     "empirical": [*CORE, "pybullet", "pymoo"],
     "figures": [*CORE, "pybullet", "matplotlib", "seaborn", "papermill", "nbconvert", "ipykernel"],

@@ -23,6 +23,9 @@ class TheoryParams:
     atol: float = 1e-8
     dt: float = 0.01
     max_steps: int = 100_000
+    #: Kernel backend: ``cpu``, ``cuda`` or ``auto`` (CUDA when numba sees a GPU). Not part of the
+    #: science digest: both kernels compute the same model (see ``resolve_backend``).
+    backend: str = "cpu"
 
     @classmethod
     def from_config(cls, th: dict[str, Any]) -> TheoryParams:
@@ -33,17 +36,51 @@ class TheoryParams:
         return METHOD_DP5 if self.integrator == "dp5" else METHOD_RK4
 
 
+BACKENDS = ("auto", "cpu", "cuda")
+#: Trajectories per kernel call when none is given: bounded memory and progress on the CPU; on the
+#: GPU as many as possible in one launch (refill scheduling keeps the device busy to the end), 25
+#: bytes of device memory each.
+CPU_BATCH = 400_000
+CUDA_BATCH = 64_000_000
+
+
+def resolve_backend(backend: str) -> str:
+    """``cpu`` or ``cuda`` for a configured backend; ``auto`` picks CUDA when a GPU is visible."""
+    if backend not in BACKENDS:
+        raise ValueError(f"theory backend must be one of {BACKENDS}, got {backend!r}")
+    if backend == "cpu":
+        return "cpu"
+    from morphlearn.theory import cuda
+
+    if cuda.available():
+        return "cuda"
+    if backend == "cuda":
+        raise RuntimeError(
+            "theory.backend is 'cuda' but numba sees no CUDA GPU (numba.cuda.is_available() is False): "
+            "check the NVIDIA driver and that numba-cuda with the CUDA toolkit wheels is installed "
+            "(numba-cuda[cu12]), or set theory.backend to 'cpu' or 'auto'"
+        )
+    return "cpu"
+
+
 def evaluate(
     designs: np.ndarray,
     weights: np.ndarray,
     p: TheoryParams,
     *,
     progress: bool = False,
-    batch_trajectories: int = 400_000,
+    batch_trajectories: int | None = None,
     return_steps: bool = False,
 ) -> list[DesignResult] | tuple[list[DesignResult], np.ndarray]:
-    """Evaluate designs given as coordinates (nd, 4) over envs x weights x weights (CPU)."""
-    from morphlearn.theory import cpu
+    """Evaluate designs given as coordinates (nd, 4) over envs x weights x weights on the backend
+    ``p.backend`` selects (CPU kernel, or CUDA kernel with one launch per batch)."""
+    backend = resolve_backend(p.backend)
+    if backend == "cuda":
+        from morphlearn.theory import cuda as kernel
+    else:
+        from morphlearn.theory import cpu as kernel  # type: ignore[no-redef]
+    if batch_trajectories is None:
+        batch_trajectories = CUDA_BATCH if backend == "cuda" else CPU_BATCH
 
     designs = np.asarray(designs, dtype=np.float64).reshape(-1, 4)
     m = len(weights)
@@ -53,7 +90,7 @@ def evaluate(
     steps = []
     bar = tqdm(total=len(designs), unit="design", disable=not progress, mininterval=1.0)
     for a in range(0, len(designs), per_batch):
-        ft, dm, st, n = cpu.sweep(
+        ft, dm, st, n = kernel.sweep(
             designs[a : a + per_batch], weights, starts, radius=p.success_radius,
             horizon=p.horizon, method=p.method, rtol=p.rtol, atol=p.atol, dt=p.dt,
             max_steps=p.max_steps,
