@@ -12,10 +12,21 @@ min_version("9.0")
 configfile: "config.yaml"
 
 
+report: "workflow/report/workflow.rst"
+
+
 include: "workflow/rules/common.smk"
-include: "workflow/rules/theory.smk"
-include: "workflow/rules/empirical.smk"
-include: "workflow/rules/analysis.smk"
+
+
+# render_only: no rule that simulates, merges or computes metrics exists.
+if not RENDER_ONLY:
+
+    include: "workflow/rules/theory.smk"
+    include: "workflow/rules/empirical.smk"
+    include: "workflow/rules/analysis.smk"
+
+
+include: "workflow/rules/figures.smk"
 
 
 rule all:

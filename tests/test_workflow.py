@@ -34,7 +34,7 @@ def test_mirror_derived_equals_directly_evaluated(smoke_run: Path, tmp_path: Pat
     cfg = yaml.safe_load((wd / "config/smoke.yaml").read_text())
     cfg["sweep"]["mirror_symmetry"] = False
     (wd / "nomirror.yaml").write_text(yaml.safe_dump(cfg))
-    snakemake(wd, "--cores", "2", "--configfile", "nomirror.yaml", "results/theory/merged.zarr")
+    snakemake(wd, "results/theory/merged.zarr", "--cores", "2", "--configfile", "nomirror.yaml")
     a = store.open_merged(smoke_run / "results/theory/merged.zarr")
     b = store.open_merged(wd / "results/theory/merged.zarr")
     g = grid.DesignGrid(3)

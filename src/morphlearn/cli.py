@@ -90,6 +90,14 @@ def cmd_design(a: argparse.Namespace) -> int:
     return 0
 
 
+def cmd_verify(a: argparse.Namespace) -> int:
+    from morphlearn import verify
+
+    rep = verify.verify(a.merged, samples=a.samples, seed=a.seed, workers=a.workers, time_tol=a.time_tol)
+    print(json.dumps(rep.as_dict(), sort_keys=True) if a.json else verify.format_report(rep))
+    return 0 if rep.ok else 1
+
+
 def build_parser() -> argparse.ArgumentParser:
     p = argparse.ArgumentParser(prog="morphlearn", description=__doc__)
     sub = p.add_subparsers(dest="cmd", required=True)
@@ -108,6 +116,15 @@ def build_parser() -> argparse.ArgumentParser:
     )
     d.add_argument("--json", action="store_true", help="print one JSON object")
     d.set_defaults(func=cmd_design)
+    v = sub.add_parser("verify", help="re-evaluate random stored cells with the scipy reference solver")
+    v.add_argument("--merged", required=True, metavar="PATH", help="a merged.zarr made by the workflow")
+    v.add_argument("--samples", type=int, default=200, metavar="N", help="cells to re-evaluate (200)")
+    v.add_argument("--seed", type=int, default=0, metavar="S", help="random seed of the sample (0)")
+    v.add_argument("--workers", type=int, default=1, metavar="K", help="processes for the reference (1)")
+    v.add_argument("--time-tol", type=float, default=0.05, metavar="DT",
+                   help="first-success times agree within this (0.05)")  # fmt: skip
+    v.add_argument("--json", action="store_true", help="print one JSON object")
+    v.set_defaults(func=cmd_verify)
     return p
 
 

@@ -94,6 +94,11 @@ def _check_cross(cfg: dict[str, Any]) -> None:
             f"analysis.horizon = {a['horizon']} exceeds theory.horizon = {th['horizon']}; "
             f"allowed: <= {th['horizon']} (or raise theory.horizon and re-simulate)"
         )
+    if cfg.get("render_only") and not (cfg["figures"]["enabled"] and th.get("enabled", True)):
+        raise ConfigError(
+            "render_only = true needs figures.enabled and theory.enabled; allowed: render_only = false "
+            "or both enabled"
+        )
 
 
 def _check_empirical(cfg: dict[str, Any], g: Any) -> None:

@@ -15,6 +15,8 @@ from morphlearn import metrics, provenance, store
 from morphlearn.theory import TheoryParams, evaluate
 
 MODELS = ("theory", "empirical")
+#: The paper's seven figures: one notebook and one rule each (morphlearn.figures draws them).
+FIGURES = tuple(f"fig{i}" for i in range(1, 8))
 
 
 def models(cfg: dict[str, Any]) -> list[str]:
@@ -198,3 +200,30 @@ def summary_markdown(summary: dict[str, Any]) -> str:
         lines += [f"Designs with M_CF = 1: {s['M_CF_eq_1']}; best M_L among them: "
                   f"{s['best_M_L_among_M_CF_eq_1']}"]  # fmt: skip
     return "\n".join(lines) + "\n"
+
+
+def figure_options(cfg: dict[str, Any], fig: str) -> dict[str, Any]:
+    """Keyword arguments of ``figures.make_figure(fig, ...)`` from the config: only what that figure
+    uses, so that changing a figure parameter re-renders only the figures that depend on it."""
+    f = cfg["figures"]
+    emp = "empirical" in models(cfg)
+    opts: dict[str, Any] = {"empirical_enabled": emp}
+    if fig == "fig1":  # the body drawn in panel C: the empirical model's (committed) morphology
+        opts["morphology"] = empirical_params(cfg).to_dict()
+        return opts
+    opts["theory_thresholds"] = thresholds(cfg, "theory").__dict__
+    if emp and fig in ("fig3", "fig6", "fig7"):
+        opts["empirical_thresholds"] = thresholds(cfg, "empirical").__dict__
+    elif fig not in ("fig3", "fig6", "fig7"):
+        opts["empirical_enabled"] = False  # figures 2, 4, 5 are theory only
+    if fig == "fig2":
+        opts |= {"design": f["fig2_design"], "envs": list(f["fig2_envs"])}
+    if fig in ("fig4", "fig5"):
+        opts |= {"settings": trajectory_settings(cfg), "near": f["near_distance"]}
+    return opts
+
+
+def trajectory_settings(cfg: dict[str, Any]) -> dict[str, float]:
+    """What a reference trajectory for a figure needs (figures.data.TheorySettings fields)."""
+    th = cfg["theory"]
+    return {"r": th["r"], "horizon": th["horizon"], "radius": th["success_radius"], "tol": th["rtol"]}

@@ -9,6 +9,7 @@ and is renamed when complete, so a crash never leaves a file that looks finished
 
 from __future__ import annotations
 
+import glob
 import hashlib
 import json
 import os
@@ -50,7 +51,8 @@ def atomic_path(final: str | Path) -> Iterator[Path]:
     final = Path(final)
     final.parent.mkdir(parents=True, exist_ok=True)
     tmp = final.with_name(f".{final.name}.tmp-{os.getpid()}")
-    _remove(tmp)
+    for stale in final.parent.glob(f".{glob.escape(final.name)}.tmp-*"):
+        _remove(stale)  # left by a writer that was killed (SIGKILL, node failure): can be GBs
     try:
         yield tmp
         if final.exists():

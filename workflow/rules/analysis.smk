@@ -33,7 +33,11 @@ rule metrics:
         f"{R}/{{model}}/merged.zarr",
     output:
         table=f"{R}/{{model}}/metrics.csv",
-        provenance=f"{R}/{{model}}/metrics.provenance.json",
+        provenance=report(
+            f"{R}/{{model}}/metrics.provenance.json",
+            caption="../report/provenance.rst",
+            category="Provenance",
+        ),
     log:
         f"{R}/logs/{{model}}/metrics.log",
     benchmark:

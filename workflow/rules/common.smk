@@ -1,5 +1,8 @@
 # Config validation (one-line error, exit 2, nothing written) and shared helpers.
+import json
+import os
 import sys
+from pathlib import Path
 
 from morphlearn import config as cfgmod
 from morphlearn import pipeline
@@ -9,6 +12,17 @@ try:
 except cfgmod.ConfigError as err:
     print(f"morphlearn: config error: {err}", file=sys.stderr)
     sys.exit(2)
+
+
+envvars:
+    "PATH",
+
+
+# Shell rules (papermill, nbconvert) find the tools of the Python running Snakemake even when its
+# environment is not activated; with --sdm conda the rule's environment still comes first.
+os.environ["PATH"] = (
+    f"{Path(sys.executable).parent}{os.pathsep}{os.environ.get('PATH', '')}"
+)
 
 R = CFG["results_dir"]
 MODELS = pipeline.models(CFG)
@@ -27,7 +41,27 @@ def shard_params(model):
     }
 
 
-ALL_TARGETS = [
-    *(f"{R}/{m}/metrics.csv" for m in MODELS),
-    f"{R}/summary.md",
+# Figures need the theory results; render_only re-renders them from stored results alone.
+RENDER_ONLY = CFG["render_only"]
+FIGURES = pipeline.FIGURES if CFG["figures"]["enabled"] and "theory" in MODELS else []
+FIGURE_TARGETS = [
+    *(f"{R}/figures/{fig}.{ext}" for fig in FIGURES for ext in ("png", "pdf", "html")),
+    *([f"{R}/reproduction.md"] if FIGURES else []),
 ]
+ALL_TARGETS = FIGURE_TARGETS + (
+    []
+    if RENDER_ONLY
+    else [*(f"{R}/{m}/metrics.csv" for m in MODELS), f"{R}/summary.md"]
+)
+
+
+def figure_data(fig):
+    """Results a figure reads: none for Fig. 1 (its body file is in the options)."""
+    if fig == "fig1":
+        return []
+    models = ["theory"]
+    if pipeline.figure_options(CFG, fig)["empirical_enabled"]:
+        models.append("empirical")
+    return [
+        f"{R}/{m}/{name}" for m in models for name in ("metrics.csv", "merged.zarr")
+    ]

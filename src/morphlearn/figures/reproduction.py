@@ -1,0 +1,214 @@
+"""The reproduction table: every number the paper states about the two models, beside ours.
+
+One row per quantity (``QUANTITIES`` lists them; a test checks they are all present), with the
+paper's value, ours, the config/resolution that produced ours and a note. Counts of controllers
+scale with the weight grid (the paper used 121 x 121), so at a reduced resolution compare the
+fractions (M_L) rather than the counts. A quantity this run cannot give (model disabled, design
+not simulated) is reported as "not in this run", never dropped.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import pandas as pd
+
+from morphlearn import grid as gridmod
+from morphlearn.figures import data as fd
+from morphlearn.figures.make import resolution_note, science_summary
+
+NOT_RUN = "not in this run"
+
+#: (key, quantity, paper's value). Keys are stable identifiers for tests and downstream tools.
+QUANTITIES: tuple[tuple[str, str, str], ...] = (
+    ("theory_canonical_generalists", "theory, canonical design: generalist controllers (O = 4)",
+     "57 of 14641 (0.39 %)"),
+    ("theory_canonical_M_L", "theory, canonical design: M_L", "0.049 (text); 57/14641 = 0.0039 (caption)"),
+    ("theory_canonical_M_CF", "theory, canonical design: M_CF", "0.24"),
+    ("theory_paper_best_generalists", "theory, design (-0.5,-0.25),(0.5,0.25): generalists",
+     "2255 of 14641 (15.4 %)"),
+    ("theory_paper_best_M_L", "theory, design (-0.5,-0.25),(0.5,0.25): M_L",
+     "0.286 (text); 2255/14641 = 0.154 (caption)"),
+    ("theory_paper_best_M_CF", "theory, design (-0.5,-0.25),(0.5,0.25): M_CF", "0.636"),
+    ("theory_best_design", "theory, design with the highest M_L",
+     "(-0.5,-0.25),(0.5,0.25) and its mirror image"),
+    ("theory_best_M_L_with_M_CF_1", "theory, highest M_L among designs with M_CF = 1", "0.206"),
+    ("theory_example_canonical", "theory, canonical design: example generalists (Fig. 4)",
+     "(0.6, 0.98), (0.77, 0.77) solve all 4"),
+    ("theory_example_best", "theory, best design: example generalists (Fig. 5)",
+     "(-0.85, 0.82), (-0.8, 0.6), (-0.28, 0.37) solve all 4"),
+    ("theory_persistence_best", "theory, best design: generalists that stay near the source",
+     "35 of 35"),
+    ("theory_persistence_canonical", "theory, canonical design: generalists that stay near the source",
+     "2 of 6"),
+    ("empirical_canonical_w11", "empirical, canonical design: environments solved by w = (1, 1)",
+     "4 of 4 (the authors' fitness target and only generalist)"),
+    ("empirical_canonical_M_L", "empirical, canonical design: M_L", "0.000068 (1 of 14641)"),
+    ("empirical_canonical_M_CF", "empirical, canonical design: M_CF", "0.00052"),
+    ("empirical_best_design", "empirical, design with the highest M_L", "(not stated as coordinates)"),
+    ("empirical_best_M_L", "empirical, best design: M_L", "0.0039 (57 of 14641)"),
+    ("empirical_best_M_CF", "empirical, best design: M_CF", "0.038"),
+    ("empirical_best_on_both", "empirical, one design best by both M_L and M_CF", "yes"),
+)  # fmt: skip
+COLUMNS = ["key", "quantity", "paper", "ours", "config", "note"]
+
+
+def _frac(n: int, m: int) -> str:
+    return f"{n} of {m} ({100 * n / m:.2f} %)"
+
+
+def _config(res: fd.ModelResults | None, config_name: str) -> str:
+    if res is None:
+        return config_name
+    return f"{config_name}: {resolution_note(res)}; {science_summary(res)}"
+
+
+def _nearest_overlap(res: fd.ModelResults, design: fd.Design, w: fd.Point) -> tuple[fd.Point, int]:
+    """The grid controller nearest to ``w`` and the number of environments it solves."""
+    o = res.overlap(res.find(*design))
+    ws = res.weights
+    i1, i2 = int(np.argmin(np.abs(ws - w[0]))), int(np.argmin(np.abs(ws - w[1])))
+    return (float(ws[i1]), float(ws[i2])), int(o[i1, i2])
+
+
+def _examples(res: fd.ModelResults, design: fd.Design, targets: Sequence[fd.Point]) -> str:
+    parts = []
+    for t in targets:
+        (a, b), k = _nearest_overlap(res, design, t)
+        same = "" if math.isclose(a, t[0]) and math.isclose(b, t[1]) else f" (grid point ({a:.3g}, {b:.3g}))"
+        parts.append(f"({t[0]:g}, {t[1]:g}){same}: {k} of 4")
+    return "; ".join(parts)
+
+
+def _persistence(pers: pd.DataFrame | None, label: str) -> tuple[str, str]:
+    if pers is None:
+        return NOT_RUN, ""
+    sub = pers[pers.design == label]
+    if sub.empty:
+        return "no generalists on this grid", ""
+    n_gen = int(sub.generalists.iloc[0])
+    note = "" if len(sub) == n_gen else f"an even spread of {len(sub)} of its {n_gen} generalists integrated"
+    return f"{int(sub.stays_near.sum())} of {len(sub)}", note
+
+
+def theory_rows(res: fd.ModelResults, pers: pd.DataFrame | None, config_name: str, near: float
+                ) -> dict[str, tuple[str, str]]:  # fmt: skip
+    """key -> (ours, note) for the theory quantities."""
+    m2 = res.n_controllers
+    out: dict[str, tuple[str, str]] = {}
+    scale = "" if m2 == 121**2 else f"counts are over a {len(res.weights)}^2 grid, not 121^2: compare fractions"
+    canon = res.row(*gridmod.canonical_design())
+    if canon is not None:
+        out["theory_canonical_generalists"] = (_frac(int(canon.generalists), m2), scale)
+        out["theory_canonical_M_L"] = (f"{canon.M_L:.4g}", "M_L = generalists / controllers, as the caption")
+        out["theory_canonical_M_CF"] = (f"{canon.M_CF:.4g}", "generalists / controllers solving at least one")
+    best = res.row(*fd.PAPER_BEST_DESIGN)
+    if best is not None:
+        out["theory_paper_best_generalists"] = (_frac(int(best.generalists), m2), scale)
+        out["theory_paper_best_M_L"] = (f"{best.M_L:.4g}", "")
+        out["theory_paper_best_M_CF"] = (f"{best.M_CF:.4g}", "")
+    top = res.best("M_L")
+    ties = len(res.tied_with(top, "M_L"))
+    out["theory_best_design"] = (f"{fd.design_label(*fd.row_design(top))}, M_L = {top.M_L:.4g}",
+                                 f"{ties} design(s) share this M_L")  # fmt: skip
+    full = res.table[np.isclose(res.table.M_CF, 1.0)]
+    out["theory_best_M_L_with_M_CF_1"] = (
+        (f"{full.M_L.max():.4g}", f"{len(full)} designs have M_CF = 1") if len(full) else ("no design", "")
+    )
+    if canon is not None:
+        out["theory_example_canonical"] = (_examples(res, gridmod.canonical_design(),
+                                                     fd.PAPER_CANONICAL_CONTROLLERS), scale)  # fmt: skip
+    if best is not None:
+        out["theory_example_best"] = (_examples(res, fd.PAPER_BEST_DESIGN, fd.PAPER_BEST_CONTROLLERS), scale)
+    rule = f"stays near = after its first success the centre never again moves farther than {near:g} from the light"
+    for key, label in (("theory_persistence_best", "best_M_L"), ("theory_persistence_canonical", "canonical")):
+        ours, note = _persistence(pers, label)
+        out[key] = (ours, "; ".join(x for x in (rule, note) if x))
+    return out
+
+
+def empirical_rows(res: fd.ModelResults) -> dict[str, tuple[str, str]]:
+    m2 = res.n_controllers
+    out: dict[str, tuple[str, str]] = {}
+    scale = "" if m2 == 121**2 else f"over a {len(res.weights)}^2 grid, not 121^2: compare fractions"
+    canon_d = gridmod.canonical_design()
+    canon = res.row(*canon_d)
+    if canon is not None:
+        _, k = _nearest_overlap(res, canon_d, (1.0, 1.0))
+        out["empirical_canonical_w11"] = (f"{k} of 4", "committed morphology (optimise_morphology)")
+        out["empirical_canonical_M_L"] = (f"{canon.M_L:.4g} ({_frac(int(canon.generalists), m2)})", scale)
+        out["empirical_canonical_M_CF"] = (f"{canon.M_CF:.4g}", "")
+    subset = "" if res.n_designs == gridmod.DesignGrid(_positions(res)).size else (
+        f"best of the {res.n_designs} designs simulated in this run")  # fmt: skip
+    top, top_cf = res.best("M_L"), res.best("M_CF")
+    out["empirical_best_design"] = (fd.design_label(*fd.row_design(top)), subset)
+    out["empirical_best_M_L"] = (f"{top.M_L:.4g} ({_frac(int(top.generalists), m2)})", scale)
+    out["empirical_best_M_CF"] = (f"{top.M_CF:.4g}", "")
+    same = fd.row_design(top) == fd.row_design(top_cf)
+    out["empirical_best_on_both"] = ("yes" if same else f"no (best by M_CF: {fd.design_label(*fd.row_design(top_cf))})",
+                                     subset)  # fmt: skip
+    return out
+
+
+def _positions(res: fd.ModelResults) -> int:
+    import json
+
+    sci = json.loads(res.ds.attrs.get("science_json", "{}"))
+    return int(sci.get("grid", {}).get("positions_per_axis", sci.get("positions_per_axis", 0)) or 0)
+
+
+def reproduction_table(theory: fd.ModelResults | None, empirical: fd.ModelResults | None,
+                       persistence: pd.DataFrame | None, config_name: str, near: float) -> pd.DataFrame:  # fmt: skip
+    """The table, one row per entry of ``QUANTITIES`` in that order."""
+    ours: dict[str, tuple[str, str]] = {}
+    if theory is not None:
+        ours |= theory_rows(theory, persistence, config_name, near)
+    if empirical is not None:
+        ours |= empirical_rows(empirical)
+    rows = []
+    for key, quantity, paper in QUANTITIES:
+        res = theory if key.startswith("theory") else empirical
+        value, note = ours.get(key, (NOT_RUN, ""))
+        rows.append({"key": key, "quantity": quantity, "paper": paper, "ours": value,
+                     "config": _config(res, config_name), "note": note})  # fmt: skip
+    return pd.DataFrame(rows, columns=COLUMNS)
+
+
+def to_markdown(table: pd.DataFrame) -> str:
+    """A GitHub Markdown table (no extra dependency), config column once below the table."""
+    esc = lambda s: str(s).replace("|", "\\|")  # noqa: E731
+    lines = ["| quantity | paper | ours | note |", "|---|---|---|---|"]
+    lines += [f"| {esc(r.quantity)} | {esc(r.paper)} | {esc(r.ours)} | {esc(r.note)} |" for r in table.itertuples()]
+    configs = dict.fromkeys(table.config)
+    return "\n".join(["# Reproduction table", "", *lines, "", "Configs:", "",
+                      *(f"- {c}" for c in configs), ""])  # fmt: skip
+
+
+def write(table: pd.DataFrame, csv: str | Path, md: str | Path, html: str | Path) -> None:
+    table.to_csv(csv, index=False)
+    Path(md).write_text(to_markdown(table))
+    Path(html).write_text(table.drop(columns=["key"]).to_html(index=False, border=0) + "\n")
+
+
+def persistence_counts(theory: fd.ModelResults, settings: fd.TheorySettings, near: float, limit: int
+                       ) -> pd.DataFrame:  # fmt: skip
+    """Persistence table of the canonical and best designs (see :func:`data.persistence_table`)."""
+    return fd.persistence_table(fd.persistence_designs(theory), theory, settings, near, limit)
+
+
+def run(results_dir: str, config_name: str, theory_thresholds: dict[str, Any] | None,
+        empirical_thresholds: dict[str, Any] | None, empirical_enabled: bool, settings: dict[str, float],
+        near: float, limit: int) -> tuple[pd.DataFrame, pd.DataFrame]:  # fmt: skip
+    """Load the results and build (reproduction table, persistence table)."""
+    theory = fd.load_results(results_dir, "theory", theory_thresholds)
+    if theory is None:
+        raise FileNotFoundError(f"no theory results under {results_dir}")
+    emp = fd.load_results(results_dir, "empirical", empirical_thresholds) if empirical_enabled else None
+    if empirical_enabled and emp is None:
+        raise FileNotFoundError("empirical.enabled is true but the empirical results are missing")
+    pers = persistence_counts(theory, fd.TheorySettings(**settings), near, limit)
+    return reproduction_table(theory, emp, pers, config_name, near), pers

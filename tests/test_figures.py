@@ -1,0 +1,132 @@
+"""Figures, reproduction table and report, from the smoke run's results (notebooks really run)."""
+
+from __future__ import annotations
+
+import json
+import re
+import shutil
+import time
+from pathlib import Path
+
+import matplotlib.image as mpimg
+import numpy as np
+import pandas as pd
+import pytest
+import yaml
+from conftest import copy_workflow, snakemake
+
+from morphlearn import config, pipeline
+from morphlearn.figures.make import DPI, SIZES
+from morphlearn.figures.reproduction import QUANTITIES
+
+SIM_RULES = {"theory_shard", "empirical_shard", "merge", "metrics", "summary"}
+
+
+def job_stats(output: str) -> dict[str, int]:
+    """Job counts per rule from snakemake's 'Job stats' table ({} when nothing is to be done)."""
+    m = re.search(r"Job stats:\n(.*?)\n\n", output + "\n\n", re.S)
+    if not m:
+        return {}
+    rows = (line.split() for line in m.group(1).splitlines())
+    return {r[0]: int(r[1]) for r in rows if len(r) == 2 and r[1].isdigit() and r[0] != "total"}
+
+
+@pytest.mark.parametrize("fig", pipeline.FIGURES)
+def test_figure_is_a_non_blank_image_of_the_expected_size(smoke_run: Path, fig: str) -> None:
+    out = smoke_run / "results/figures"
+    img = mpimg.imread(out / f"{fig}.png")
+    w, h = SIZES[fig]
+    assert img.shape[:2] == (round(h * DPI), round(w * DPI))
+    rgb = img[..., :3]
+    assert rgb.std() > 0.05  # not one flat colour
+    assert len(np.unique(rgb.reshape(-1, 3).round(2), axis=0)) > 50  # drawn content, not a blank page
+    assert (out / f"{fig}.pdf").read_bytes().startswith(b"%PDF")
+    caption = (out / f"{fig}.caption.md").read_text()
+    assert caption.startswith("**Figure ") and "**Data and config.**" in caption
+    if fig != "fig1":
+        assert "git commit test" in caption and "sha256" in caption
+    # The executed notebook is the rule's log, exported to HTML, and ran without an error.
+    nb = json.loads((smoke_run / f"results/logs/figures/{fig}.ipynb").read_text())
+    outputs = [o for c in nb["cells"] if c["cell_type"] == "code" for o in c.get("outputs", [])]
+    assert not [o for o in outputs if o.get("output_type") == "error"]
+    assert any("image/png" in o.get("data", {}) for o in outputs)
+    assert "<html" in (out / f"{fig}.html").read_text()[:2000].lower()
+
+
+def test_reproduction_table_has_every_quantity(smoke_run: Path) -> None:
+    t = pd.read_csv(smoke_run / "results/reproduction.csv")
+    assert t.key.tolist() == [k for k, _, _ in QUANTITIES]
+    assert t.ours.notna().all() and t.paper.notna().all()
+    md = (smoke_run / "results/reproduction.md").read_text()
+    assert all(q in md for _, q, _ in QUANTITIES)
+    # the canonical design is in the smoke run: its rows hold numbers, not "not in this run"
+    canon = t.set_index("key").loc["theory_canonical_M_L", "ours"]
+    assert 0.0 <= float(canon) <= 1.0
+    pers = pd.read_csv(smoke_run / "results/persistence.csv")
+    assert set(pers.design) <= {"canonical", "best_M_L", "paper_best"} and pers.stays_near.dtype == bool
+
+
+def test_editing_one_notebook_rerenders_only_that_figure(smoke_run: Path) -> None:
+    # Snakemake compares input checksums, so a touch is not an edit: change the content.
+    nb = smoke_run / "notebooks/fig3.ipynb"
+    original = nb.read_bytes()
+    try:
+        nb.write_bytes(original.replace(b"# Figure 3.", b"# Figure 3 (edited)."))
+        proc = snakemake(smoke_run, "-n", "--cores", "1", "--configfile", "config/smoke.yaml")
+    finally:
+        nb.write_bytes(original)
+    assert job_stats(proc.stderr + proc.stdout) == {"figure_fig3": 1, "all": 1}
+
+
+def test_figure_parameter_rerenders_figures_without_simulating(smoke_run: Path) -> None:
+    change = smoke_run / "near.yaml"
+    change.write_text(yaml.safe_dump({"figures": {"near_distance": 0.5}}))
+    proc = snakemake(smoke_run, "-n", "--cores", "1", "--configfile", "config/smoke.yaml", str(change))
+    stats = job_stats(proc.stderr + proc.stdout)
+    assert stats == {"figure_fig4": 1, "figure_fig5": 1, "reproduction": 1, "all": 1}
+
+
+def test_reviewer_rerenders_from_stored_results_only(smoke_run: Path, tmp_path: Path) -> None:
+    """A reviewer's clone with only the merged results and metrics (no shards, no .snakemake)."""
+    wd = copy_workflow(tmp_path / "reviewer")
+    for model in ("theory", "empirical"):
+        dst = wd / "results" / model
+        dst.mkdir(parents=True)
+        for name in ("metrics.csv", "metrics.provenance.json"):
+            shutil.copy2(smoke_run / "results" / model / name, dst / name)
+        shutil.copytree(smoke_run / "results" / model / "merged.zarr", dst / "merged.zarr")
+    t0 = time.perf_counter()
+    proc = snakemake(wd, "--cores", "2", "--configfile", "config/smoke.yaml", "--config", "render_only=True",
+                     "--forceall")  # fmt: skip
+    wall = time.perf_counter() - t0
+    stats = job_stats(proc.stderr + proc.stdout)
+    print(f"re-rendered {sum(v for k, v in stats.items() if k.startswith('figure_'))} figures in {wall:.0f} s")
+    assert not SIM_RULES & set(stats)
+    assert {f"figure_{f}" for f in pipeline.FIGURES} <= set(stats) and "reproduction" in stats
+    assert not (wd / "results/theory/shards").exists()
+    for fig in pipeline.FIGURES:  # same pictures as the full run's (deterministic rendering)
+        assert (wd / f"results/figures/{fig}.png").read_bytes() == (
+            smoke_run / f"results/figures/{fig}.png"
+        ).read_bytes(), fig
+    # and the report of that run
+    snakemake(wd, "--configfile", "config/smoke.yaml", "--config", "render_only=True", "--report",
+              "results/report.html")  # fmt: skip
+    html = (wd / "results/report.html").read_text()
+    assert "Overlapped binary success matrices" in html and "Reproduction" in html
+
+
+def test_report_of_the_main_run(smoke_run: Path) -> None:
+    snakemake(smoke_run, "--configfile", "config/smoke.yaml", "--report", "results/report.html")
+    html = (smoke_run / "results/report.html").read_text()
+    for title in ("Modelling the robot", "Overlapped binary success", "The best designs", "canonical design",
+                  "best design by M_L", "Measuring learnability", "Distributions of M_L"):  # fmt: skip
+        assert title in html, title
+    assert "Provenance" in html and "metrics.provenance.json" in html
+
+
+def test_render_only_needs_figures() -> None:
+    base = yaml.safe_load((Path(__file__).parents[1] / "config.yaml").read_text())
+    with pytest.raises(config.ConfigError, match="render_only"):
+        config.validate({**base, "render_only": True, "figures": {"enabled": False}})
+    with pytest.raises(config.ConfigError, match=r"figures\.fig2_envs"):
+        config.validate({**base, "figures": {"fig2_envs": [45, 50]}})

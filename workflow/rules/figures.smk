@@ -1,0 +1,85 @@
+# Figures (one papermill notebook each), the reproduction table, and what the report shows.
+# One rule per figure, so that a figure's caption file can be its report caption and editing a
+# notebook (an explicit input) re-renders only that figure.
+
+
+localrules:
+    reproduction,
+    figures,
+
+
+for _fig in FIGURES:
+
+    rule:
+        name:
+            f"figure_{_fig}"
+        input:
+            notebook=f"notebooks/{_fig}.ipynb",
+            data=figure_data(_fig),
+        output:
+            png=report(
+                f"{R}/figures/{_fig}.png",
+                caption=str(Path(f"{R}/figures/{_fig}.caption.md").resolve()),
+                category="Figures",
+            ),
+            pdf=f"{R}/figures/{_fig}.pdf",
+            caption=f"{R}/figures/{_fig}.caption.md",
+            html=f"{R}/figures/{_fig}.html",
+        log:
+            notebook=f"{R}/logs/figures/{_fig}.ipynb",
+            text=f"{R}/logs/figures/{_fig}.log",
+        benchmark:
+            f"{R}/benchmarks/figures/{_fig}.tsv"
+        localrule: True
+        conda:
+            "../../envs/figures.yaml"
+        params:
+            fig=_fig,
+            results=lambda w, output: Path(output.png).parents[1],  # = results_dir
+            src=f"{workflow.basedir}/src",
+            options=json.dumps(pipeline.figure_options(CFG, _fig), sort_keys=True),
+        shell:
+            "(export PYTHONPATH={params.src:q}${{PYTHONPATH:+:$PYTHONPATH}}; "
+            "papermill {input.notebook:q} {log.notebook:q} -p figure {params.fig} "
+            "-p results_dir {params.results:q} -p png {output.png:q} -p pdf {output.pdf:q} "
+            "-p caption {output.caption:q} -r options {params.options:q} && "
+            "jupyter nbconvert --to html --log-level WARN --output-dir $(dirname {output.html:q}) "
+            "--output {params.fig} {log.notebook:q}) > {log.text:q} 2>&1"
+
+
+rule reproduction:
+    input:
+        **{
+            f"{m}_{n}": f"{R}/{m}/{n}"
+            for m in MODELS
+            for n in ("metrics.csv", "merged.zarr")
+        },
+    output:
+        csv=f"{R}/reproduction.csv",
+        md=f"{R}/reproduction.md",
+        html=report(
+            f"{R}/reproduction.html",
+            caption="../report/reproduction.rst",
+            category="Reproduction",
+        ),
+        persistence=f"{R}/persistence.csv",
+    log:
+        f"{R}/logs/reproduction.log",
+    benchmark:
+        f"{R}/benchmarks/reproduction.tsv"
+    conda:
+        "../../envs/figures.yaml"
+    params:
+        config_name=" + ".join(Path(f).name for f in reversed(workflow.configfiles)),
+        empirical="empirical" in MODELS,
+        near=CFG["figures"]["near_distance"],
+        limit=CFG["figures"]["persistence_controllers"],
+        settings=pipeline.trajectory_settings(CFG),
+        thresholds={m: pipeline.thresholds(CFG, m).__dict__ for m in MODELS},
+    script:
+        "../scripts/reproduction.py"
+
+
+rule figures:
+    input:
+        FIGURE_TARGETS,
