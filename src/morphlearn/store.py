@@ -14,6 +14,7 @@ import hashlib
 import json
 import os
 import shutil
+import warnings
 from collections.abc import Iterable, Iterator
 from contextlib import contextmanager
 from dataclasses import dataclass
@@ -234,4 +235,6 @@ def _put(data: dict[str, zarr.Array], i: int, arrays: dict[str, np.ndarray], wri
 
 def open_merged(path: str | Path) -> xr.Dataset:
     """The merged dataset, lazily, with coordinates; status is not masked."""
-    return xr.open_zarr(str(path), consolidated=False, mask_and_scale=False)
+    with warnings.catch_warnings():  # Snakemake marks directory outputs with this file
+        warnings.filterwarnings("ignore", message=".*snakemake_timestamp.*")
+        return xr.open_zarr(str(path), consolidated=False, mask_and_scale=False)

@@ -120,8 +120,8 @@ def _fmt_design(row: Any) -> str:
     return fd.design_label(*fd.row_design(row))
 
 
-def _metric_line(row: Any, m: int) -> str:
-    return (f"M_L = {row.M_L:.4g} ({int(row.generalists)} of {m} controllers), "
+def _metric_line(row: Any, m: int, sep: str = ", ") -> str:
+    return (f"M_L = {row.M_L:.4g} ({int(row.generalists)} of {m} controllers){sep}"
             f"M_CF = {row.M_CF:.4g}")  # fmt: skip
 
 
@@ -228,8 +228,9 @@ def fig3(theory: fd.ModelResults, empirical: fd.ModelResults | None = None, empi
     axes = fig.subplots(1, 3)
     b_ml, b_cf = theory.best("M_L"), theory.best("M_CF")
     m = theory.n_controllers
-    _sketch(axes[0], b_ml, f"theory, best by M_L\n{_fmt_design(b_ml)}\n{_metric_line(b_ml, m)}")
-    _sketch(axes[1], b_cf, f"theory, best by M_CF\n{_fmt_design(b_cf)}\n{_metric_line(b_cf, m)}")
+    # Metrics on their own line: a title wider than its axes would run into the panel letter.
+    _sketch(axes[0], b_ml, f"theory, best by M_L\n{_fmt_design(b_ml)}\n{_metric_line(b_ml, m, chr(10))}")
+    _sketch(axes[1], b_cf, f"theory, best by M_CF\n{_fmt_design(b_cf)}\n{_metric_line(b_cf, m, chr(10))}")
     body = [
         f"Sensor placements (red; 1 drives the right wheel, 2 the left) of the best designs. "
         f"**A:** theory, highest controller learnability M_L: {_fmt_design(b_ml)}, {_metric_line(b_ml, m)}; "
@@ -247,7 +248,7 @@ def fig3(theory: fd.ModelResults, empirical: fd.ModelResults | None = None, empi
         same = fd.row_design(e_ml) == fd.row_design(e_cf)
         me = emp.n_controllers
         _sketch(axes[2], e_ml, f"empirical, best by M_L{' and M_CF' if same else ''}\n{_fmt_design(e_ml)}\n"
-                f"{_metric_line(e_ml, me)}", castor=True)  # fmt: skip
+                f"{_metric_line(e_ml, me, chr(10))}", castor=True)  # fmt: skip
         sub = "" if emp.n_designs == theory.n_designs else (
             f" Only {emp.n_designs} designs were simulated empirically in this run, so this is the best "
             "of those, not of all designs.")  # fmt: skip
@@ -259,7 +260,7 @@ def fig3(theory: fd.ModelResults, empirical: fd.ModelResults | None = None, empi
         )  # fmt: skip
     for ax, letter in zip(axes, "ABC", strict=True):
         draw.panel_letter(ax, letter)
-    fig.subplots_adjust(left=0.05, right=0.98, top=0.78, bottom=0.12, wspace=0.35)
+    fig.subplots_adjust(left=0.05, right=0.98, top=0.74, bottom=0.1, wspace=0.35)
     return FigureOutput(fig, _caption("Figure 3. The best designs.", body, provenance_md([theory, emp])), {})
 
 
