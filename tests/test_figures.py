@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import json
-import re
 import shutil
 import time
 from pathlib import Path
@@ -13,22 +12,13 @@ import numpy as np
 import pandas as pd
 import pytest
 import yaml
-from conftest import copy_workflow, snakemake
+from conftest import copy_workflow, job_stats, snakemake
 
 from morphlearn import config, pipeline
 from morphlearn.figures.make import DPI, SIZES
 from morphlearn.figures.reproduction import QUANTITIES
 
 SIM_RULES = {"theory_shard", "empirical_shard", "merge", "metrics", "summary"}
-
-
-def job_stats(output: str) -> dict[str, int]:
-    """Job counts per rule from snakemake's 'Job stats' table ({} when nothing is to be done)."""
-    m = re.search(r"Job stats:\n(.*?)\n\n", output + "\n\n", re.S)
-    if not m:
-        return {}
-    rows = (line.split() for line in m.group(1).splitlines())
-    return {r[0]: int(r[1]) for r in rows if len(r) == 2 and r[1].isdigit() and r[0] != "total"}
 
 
 @pytest.mark.parametrize("fig", pipeline.FIGURES)

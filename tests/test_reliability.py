@@ -24,7 +24,7 @@ import psutil
 import pytest
 import xarray as xr
 import yaml
-from conftest import copy_workflow, snakemake
+from conftest import copy_workflow, job_stats, snakemake
 
 from morphlearn import cli, config, grid, pipeline, store
 from morphlearn.provenance import sha256_file
@@ -48,15 +48,6 @@ def workflow_copy(dest: Path) -> Path:
     wd = copy_workflow(dest)
     (wd / "rel.yaml").write_text(yaml.safe_dump(REL_CONFIG))
     return wd
-
-
-def job_stats(output: str) -> dict[str, int]:
-    """Job counts per rule from snakemake's 'Job stats' table ({} when nothing is to be done)."""
-    m = re.search(r"Job stats:\n(.*?)\n\n", output + "\n\n", re.S)
-    if not m:
-        return {}
-    rows = (line.split() for line in m.group(1).splitlines())
-    return {r[0]: int(r[1]) for r in rows if len(r) == 2 and r[1].isdigit() and r[0] != "total"}
 
 
 def temporaries(root: Path) -> list[Path]:
