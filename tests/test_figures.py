@@ -65,14 +65,14 @@ def test_editing_one_notebook_rerenders_only_that_figure(smoke_run: Path) -> Non
         proc = snakemake(smoke_run, "-n", "--cores", "1", "--configfile", "config/smoke.yaml")
     finally:
         nb.write_bytes(original)
-    assert job_stats(proc.stderr + proc.stdout) == {"figure_fig3": 1, "all": 1}
+    assert job_stats(proc.stdout + proc.stderr) == {"figure_fig3": 1, "all": 1}
 
 
 def test_figure_parameter_rerenders_figures_without_simulating(smoke_run: Path) -> None:
     change = smoke_run / "near.yaml"
     change.write_text(yaml.safe_dump({"figures": {"near_distance": 0.5}}))
     proc = snakemake(smoke_run, "-n", "--cores", "1", "--configfile", "config/smoke.yaml", str(change))
-    stats = job_stats(proc.stderr + proc.stdout)
+    stats = job_stats(proc.stdout + proc.stderr)
     assert stats == {"figure_fig4": 1, "figure_fig5": 1, "reproduction": 1, "all": 1}
 
 
@@ -89,7 +89,7 @@ def test_reviewer_rerenders_from_stored_results_only(smoke_run: Path, tmp_path: 
     proc = snakemake(wd, "--cores", "2", "--configfile", "config/smoke.yaml", "--config", "render_only=True",
                      "--forceall")  # fmt: skip
     wall = time.perf_counter() - t0
-    stats = job_stats(proc.stderr + proc.stdout)
+    stats = job_stats(proc.stdout + proc.stderr)
     print(f"re-rendered {sum(v for k, v in stats.items() if k.startswith('figure_'))} figures in {wall:.0f} s")
     assert not SIM_RULES & set(stats)
     assert {f"figure_{f}" for f in pipeline.FIGURES} <= set(stats) and "reproduction" in stats

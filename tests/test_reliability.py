@@ -178,7 +178,7 @@ def test_workflow_merge_refuses_a_corrupted_shard(done_run: Path, tmp_path: Path
     _flip_data_byte(shard)  # newer than merged.zarr: snakemake re-runs the merge, not the shard
     proc = snakemake(wd, "--cores", "1", "--configfile", "rel.yaml", check=False)
     assert proc.returncode != 0
-    assert job_stats(proc.stderr).get("theory_shard", 0) == 0
+    assert job_stats(proc.stdout + proc.stderr).get("theory_shard", 0) == 0
     log = (wd / "results/logs/theory/merge.log").read_text()
     assert "shard results/theory/shards/shard_2.nc: data checksum mismatch (damaged)" in log, log[-2000:]
     assert not (wd / "results/theory/merged.zarr").exists()
@@ -256,7 +256,7 @@ def test_kill_mid_run_then_resume_recomputes_only_unfinished_shards(done_run: Pa
 
     snakemake(wd, "--unlock")
     proc2 = snakemake(wd, "--cores", "2", "--configfile", "rel.yaml", "--rerun-incomplete")
-    recomputed = job_stats(proc2.stderr).get("theory_shard", 0)
+    recomputed = job_stats(proc2.stdout + proc2.stderr).get("theory_shard", 0)
     print(f"\nkilled with {len(finished)} of {N_SHARDS} shards finished; resume recomputed "
           f"{recomputed} shard(s): {sorted(unfinished)}")  # fmt: skip
     assert recomputed == len(unfinished)
@@ -294,7 +294,7 @@ SIM = {"theory_shard": N_SHARDS, "merge": 1, "metrics": 1, "summary": 1, "all": 
 def test_change_invalidates_exactly_what_depends_on_it(done_run: Path, change: dict, expected: dict) -> None:
     (done_run / "change.yaml").write_text(yaml.safe_dump(change))
     proc = snakemake(done_run, "-n", "--cores", "1", "--configfile", "rel.yaml", "change.yaml")
-    assert job_stats(proc.stderr) == expected, proc.stderr[-3000:]
+    assert job_stats(proc.stdout + proc.stderr) == expected, (proc.stdout + proc.stderr)[-3000:]
 
 
 def test_dt_is_science_only_for_the_fixed_step_integrator() -> None:
