@@ -22,7 +22,6 @@ from __future__ import annotations
 import json
 import math
 import multiprocessing
-import warnings
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
 from typing import Any
@@ -171,9 +170,7 @@ def verify(
     if not path.exists():
         raise VerifyError(f"--merged {path}: not found (a merged.zarr made by the workflow)")
     try:
-        with warnings.catch_warnings():  # snakemake's .snakemake_timestamp inside directory outputs
-            warnings.simplefilter("ignore")
-            ds = store.open_merged(path)
+        ds = store.open_merged(path)  # it ignores Snakemake's timestamp file in directory outputs
     except Exception as e:  # zarr/xarray raise many kinds
         raise VerifyError(f"--merged {path}: not a readable Zarr dataset ({type(e).__name__})") from None
     par = read_parameters(ds, path)

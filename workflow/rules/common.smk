@@ -44,6 +44,8 @@ def shard_params(model):
 # Figures need the theory results; render_only re-renders them from stored results alone.
 RENDER_ONLY = CFG["render_only"]
 FIGURES = pipeline.FIGURES if CFG["figures"]["enabled"] and "theory" in MODELS else []
+# Once per start: the options read the body file, and both a figure's inputs and params use them.
+FIGURE_OPTIONS = {fig: pipeline.figure_options(CFG, fig) for fig in FIGURES}
 FIGURE_TARGETS = [
     *(f"{R}/figures/{fig}.{ext}" for fig in FIGURES for ext in ("png", "pdf", "html")),
     *([f"{R}/reproduction.md"] if FIGURES else []),
@@ -60,7 +62,7 @@ def figure_data(fig):
     if fig == "fig1":
         return []
     models = ["theory"]
-    if pipeline.figure_options(CFG, fig)["empirical_enabled"]:
+    if FIGURE_OPTIONS[fig]["empirical_enabled"]:
         models.append("empirical")
     return [
         f"{R}/{m}/{name}" for m in models for name in ("metrics.csv", "merged.zarr")

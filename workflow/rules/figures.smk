@@ -37,7 +37,7 @@ for _fig in FIGURES:
             fig=_fig,
             results=lambda w, output: Path(output.png).parents[1],  # = results_dir
             src=f"{workflow.basedir}/src",
-            options=json.dumps(pipeline.figure_options(CFG, _fig), sort_keys=True),
+            options=json.dumps(FIGURE_OPTIONS[_fig], sort_keys=True),
         shell:
             "(export PYTHONPATH={params.src:q}${{PYTHONPATH:+:$PYTHONPATH}}; "
             "papermill {input.notebook:q} {log.notebook:q} -p figure {params.fig} "

@@ -9,6 +9,7 @@ from the dataset.
 
 from __future__ import annotations
 
+import json
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass, field
@@ -61,6 +62,17 @@ class ModelResults:
     ds: xr.Dataset
     thresholds: metrics.Thresholds | None
     paths: dict[str, str] = field(default_factory=dict)
+
+    @property
+    def science(self) -> dict[str, Any]:
+        """The config subset the dataset was made with (its ``science_json`` attribute)."""
+        return json.loads(self.ds.attrs.get("science_json", "{}"))
+
+    @property
+    def positions_per_axis(self) -> int | None:
+        """Grid positions per axis (theory keeps it under ``grid``, empirical at the top)."""
+        sci = self.science
+        return sci.get("grid", {}).get("positions_per_axis", sci.get("positions_per_axis"))
 
     @property
     def weights(self) -> np.ndarray:

@@ -60,7 +60,7 @@ def _provenance_record(res: fd.ModelResults) -> dict[str, Any]:
 
 def science_summary(res: fd.ModelResults) -> str:
     """The config subset the dataset was made with (from the dataset itself)."""
-    sci = json.loads(res.ds.attrs.get("science_json", "{}"))
+    sci = res.science
     m = len(res.weights)
     if res.model == "theory":
         g, th = sci.get("grid", {}), sci.get("theory", {})
@@ -77,8 +77,7 @@ def science_summary(res: fd.ModelResults) -> str:
 
 
 def resolution_note(res: fd.ModelResults) -> str:
-    sci = json.loads(res.ds.attrs.get("science_json", "{}"))
-    n = sci.get("grid", {}).get("positions_per_axis", sci.get("positions_per_axis"))
+    n = res.positions_per_axis
     m = len(res.weights)
     full_designs = res.n_designs == (n or 0) ** 4
     if n == PAPER_POSITIONS and m == PAPER_WEIGHTS and full_designs:

@@ -67,18 +67,17 @@ def _config(res: fd.ModelResults | None, config_name: str) -> str:
     return f"{config_name}: {resolution_note(res)}; {science_summary(res)}"
 
 
-def _nearest_overlap(res: fd.ModelResults, design: fd.Design, w: fd.Point) -> tuple[fd.Point, int]:
-    """The grid controller nearest to ``w`` and the number of environments it solves."""
-    o = res.overlap(res.find(*design))
-    ws = res.weights
+def _nearest(o: np.ndarray, ws: np.ndarray, w: fd.Point) -> tuple[fd.Point, int]:
+    """The grid controller nearest to ``w`` and the number of environments it solves (overlap ``o``)."""
     i1, i2 = int(np.argmin(np.abs(ws - w[0]))), int(np.argmin(np.abs(ws - w[1])))
     return (float(ws[i1]), float(ws[i2])), int(o[i1, i2])
 
 
 def _examples(res: fd.ModelResults, design: fd.Design, targets: Sequence[fd.Point]) -> str:
+    o = res.overlap(res.find(*design))
     parts = []
     for t in targets:
-        (a, b), k = _nearest_overlap(res, design, t)
+        (a, b), k = _nearest(o, res.weights, t)
         same = "" if math.isclose(a, t[0]) and math.isclose(b, t[1]) else f" (grid point ({a:.3g}, {b:.3g}))"
         parts.append(f"({t[0]:g}, {t[1]:g}){same}: {k} of 4")
     return "; ".join(parts)
@@ -95,8 +94,7 @@ def _persistence(pers: pd.DataFrame | None, label: str) -> tuple[str, str]:
     return f"{int(sub.stays_near.sum())} of {len(sub)}", note
 
 
-def theory_rows(res: fd.ModelResults, pers: pd.DataFrame | None, config_name: str, near: float
-                ) -> dict[str, tuple[str, str]]:  # fmt: skip
+def theory_rows(res: fd.ModelResults, pers: pd.DataFrame | None, near: float) -> dict[str, tuple[str, str]]:
     """key -> (ours, note) for the theory quantities."""
     m2 = res.n_controllers
     out: dict[str, tuple[str, str]] = {}
@@ -138,11 +136,11 @@ def empirical_rows(res: fd.ModelResults) -> dict[str, tuple[str, str]]:
     canon_d = gridmod.canonical_design()
     canon = res.row(*canon_d)
     if canon is not None:
-        _, k = _nearest_overlap(res, canon_d, (1.0, 1.0))
+        _, k = _nearest(res.overlap(res.find(*canon_d)), res.weights, (1.0, 1.0))
         out["empirical_canonical_w11"] = (f"{k} of 4", "committed morphology (optimise_morphology)")
         out["empirical_canonical_M_L"] = (f"{canon.M_L:.4g} ({_frac(int(canon.generalists), m2)})", scale)
         out["empirical_canonical_M_CF"] = (f"{canon.M_CF:.4g}", "")
-    subset = "" if res.n_designs == gridmod.DesignGrid(_positions(res)).size else (
+    subset = "" if res.n_designs == gridmod.DesignGrid(res.positions_per_axis or 0).size else (
         f"best of the {res.n_designs} designs simulated in this run")  # fmt: skip
     top, top_cf = res.best("M_L"), res.best("M_CF")
     out["empirical_best_design"] = (fd.design_label(*fd.row_design(top)), subset)
@@ -154,19 +152,12 @@ def empirical_rows(res: fd.ModelResults) -> dict[str, tuple[str, str]]:
     return out
 
 
-def _positions(res: fd.ModelResults) -> int:
-    import json
-
-    sci = json.loads(res.ds.attrs.get("science_json", "{}"))
-    return int(sci.get("grid", {}).get("positions_per_axis", sci.get("positions_per_axis", 0)) or 0)
-
-
 def reproduction_table(theory: fd.ModelResults | None, empirical: fd.ModelResults | None,
                        persistence: pd.DataFrame | None, config_name: str, near: float) -> pd.DataFrame:  # fmt: skip
     """The table, one row per entry of ``QUANTITIES`` in that order."""
     ours: dict[str, tuple[str, str]] = {}
     if theory is not None:
-        ours |= theory_rows(theory, persistence, config_name, near)
+        ours |= theory_rows(theory, persistence, near)
     if empirical is not None:
         ours |= empirical_rows(empirical)
     rows = []

@@ -6,6 +6,7 @@ import numba
 import numpy as np
 
 from morphlearn.theory import model
+from morphlearn.theory.arrays import sweep_arrays
 
 _trajectory = model.build(numba.njit(cache=True, inline="never"))
 
@@ -51,14 +52,7 @@ def sweep(
     max_steps: int,
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """Evaluate designs (nd, 4) x envs x w x w. Returns (first_time, min_dist, status, steps)."""
-    designs = np.ascontiguousarray(designs, dtype=np.float64).reshape(-1, 4)
-    w = np.ascontiguousarray(w, dtype=np.float64)
-    starts = np.ascontiguousarray(starts, dtype=np.float64)
-    shape = (designs.shape[0], starts.shape[0], w.size, w.size)
-    out_t = np.empty(shape)
-    out_d = np.empty(shape)
-    out_s = np.empty(shape, dtype=np.int8)
-    out_n = np.empty(shape, dtype=np.int64)
+    designs, w, starts, (out_t, out_d, out_s, out_n) = sweep_arrays(designs, w, starts)
     with numba.parallel_chunksize(_CHUNK):
         _sweep(designs, w, starts, float(radius), float(horizon), int(method), float(rtol),
                float(atol), float(dt), int(max_steps), out_t, out_d, out_s, out_n)  # fmt: skip

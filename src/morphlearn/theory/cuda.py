@@ -21,6 +21,7 @@ import numpy as np
 from numba import cuda  # a module global: the CUDA simulator swaps it in the kernel's globals
 
 from morphlearn.theory import model
+from morphlearn.theory.arrays import sweep_arrays
 
 _THREADS_PER_BLOCK = 128
 _FALLBACK_BLOCKS_PER_SM = 8
@@ -103,15 +104,9 @@ def sweep(
 
     Returns (first_time, min_dist, status, steps) as host arrays, like ``cpu.sweep``.
     """
-    designs = np.ascontiguousarray(designs, dtype=np.float64).reshape(-1, 4)
-    w = np.ascontiguousarray(w, dtype=np.float64)
-    starts = np.ascontiguousarray(starts, dtype=np.float64)
-    shape = (designs.shape[0], starts.shape[0], w.size, w.size)
-    total = int(np.prod(shape))
-    out_t = np.empty(shape)
-    out_d = np.empty(shape)
-    out_s = np.empty(shape, dtype=np.int8)
-    out_n = np.empty(shape, dtype=np.int64)
+    designs, w, starts, (out_t, out_d, out_s, out_n) = sweep_arrays(designs, w, starts)
+    shape = out_t.shape
+    total = out_t.size
     if total == 0:
         return out_t, out_d, out_s, out_n
     kernel = _kernel()
