@@ -174,6 +174,9 @@ def test_merge_refuses_a_bad_shard_and_writes_nothing(tmp_path: Path, kind: str)
 def test_workflow_merge_refuses_a_corrupted_shard(done_run: Path, tmp_path: Path) -> None:
     wd = tmp_path / "corrupt"
     shutil.copytree(done_run, wd, symlinks=True)  # results and .snakemake metadata, mtimes kept
+    merged = wd / "results/theory/merged.zarr"
+    before = {p.relative_to(merged): p.read_bytes() for p in merged.rglob("*") if p.is_file()
+              and p.name != ".snakemake_timestamp"}  # fmt: skip
     shard = wd / "results/theory/shards/shard_2.nc"
     _flip_data_byte(shard)  # newer than merged.zarr: snakemake re-runs the merge, not the shard
     proc = snakemake(wd, "--cores", "1", "--configfile", "rel.yaml", check=False)
@@ -181,7 +184,11 @@ def test_workflow_merge_refuses_a_corrupted_shard(done_run: Path, tmp_path: Path
     assert job_stats(proc.stdout + proc.stderr).get("theory_shard", 0) == 0
     log = (wd / "results/logs/theory/merge.log").read_text()
     assert "shard results/theory/shards/shard_2.nc: data checksum mismatch (damaged)" in log, log[-2000:]
-    assert not (wd / "results/theory/merged.zarr").exists()
+    # The previous good store is still there, byte for byte, and still verifies.
+    after = {p.relative_to(merged): p.read_bytes() for p in merged.rglob("*") if p.is_file()
+             and p.name != ".snakemake_timestamp"}  # fmt: skip
+    assert after == before
+    store.verify_merged(merged)
     assert temporaries(wd / "results") == []
 
 
@@ -372,20 +379,23 @@ def test_full_disk_during_shard_write_leaves_no_file(tmp_path: Path, monkeypatch
     assert list(out.parent.iterdir()) == []
 
 
-def test_full_disk_during_merge_leaves_no_dataset(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+def test_full_disk_during_merge_keeps_the_previous_dataset(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
     paths = _shards(tmp_path)
-    real, calls = store._put, [0]
+    _merge(paths, tmp_path / "merged.zarr")
+    before = sha256_file(tmp_path / "merged.zarr")
+    real, calls = store.chunk_digest, [0]
 
-    def put_until_full(*a: object) -> None:
+    def digest_until_full(*a: object) -> str:
         calls[0] += 1
         if calls[0] > 10:
             raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC))
-        real(*a)
+        return real(*a)
 
-    monkeypatch.setattr(store, "_put", put_until_full)
+    monkeypatch.setattr(store, "chunk_digest", digest_until_full)
     with pytest.raises(OSError, match="No space left"):
         _merge(paths, tmp_path / "merged.zarr")
-    assert not (tmp_path / "merged.zarr").exists()
+    assert calls[0] > 10  # it failed part-way through writing the new store
+    assert sha256_file(tmp_path / "merged.zarr") == before
     assert temporaries(tmp_path) == []
 
 

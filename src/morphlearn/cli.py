@@ -6,6 +6,7 @@ import argparse
 import ctypes
 import json
 import os
+import re
 import sys
 from collections.abc import Iterator, Sequence
 from contextlib import contextmanager
@@ -43,17 +44,52 @@ def _position(name: str, xy: Sequence[float]) -> tuple[float, float]:
 
 
 def _positive(name: str, v: float | None) -> None:
-    if v is not None and not v > 0:
-        raise UsageError(f"{name} = {v} must be > 0")
+    if v is not None and not (v > 0 and np.isfinite(v)):
+        raise UsageError(f"{name} = {v} must be a finite number > 0")
+
+
+#: Weights per synapse at most (as grid.weights in the config schema).
+MAX_WEIGHTS = 1001
+THEORY_ONLY = ("r", "horizon", "dt")
+DEFAULT_MORPHOLOGY = "config/empirical_morphology.yaml"
+
+
+def _load_morphology(path: str) -> object:
+    from pathlib import Path
+
+    import yaml
+
+    if not Path(path).is_file():
+        raise UsageError(f"--morphology {path}: no such file (a YAML of body parameters)")
+    with _c_stdout_to_stderr():
+        from morphlearn.empirical import load_params
+    try:
+        return load_params(path)
+    except yaml.YAMLError as e:
+        mark = getattr(e, "problem_mark", None)
+        where = f" at line {mark.line + 1}, column {mark.column + 1}" if mark else ""
+        raise UsageError(f"--morphology {path}: malformed YAML{where}") from None
+    except (ValueError, TypeError) as e:
+        raise UsageError(f"--morphology {path}: {e}".splitlines()[0]) from None
 
 
 def cmd_design(a: argparse.Namespace) -> int:
     l1 = _position("--l1", a.l1)
     l2 = _position("--l2", a.l2)
-    if a.weights < 2:
-        raise UsageError(f"--weights = {a.weights} must be >= 2")
-    for name in ("r", "horizon", "dt"):
+    if not 2 <= a.weights <= MAX_WEIGHTS:
+        gib = 4 * a.weights**2 * 9 / 2**30  # first_time, min_dist (float32), status (int8) per cell
+        raise UsageError(f"--weights = {a.weights} must be in 2..{MAX_WEIGHTS} (one design's 4 x {a.weights}"
+                         f" x {a.weights} results would need {gib:.3g} GiB of memory)")  # fmt: skip
+    for name in THEORY_ONLY:
         _positive(f"--{name}", getattr(a, name))
+    if a.model == "empirical":  # refused rather than silently ignored
+        given = [f"--{n}" for n in THEORY_ONLY if getattr(a, n) is not None]
+        if given:
+            what = "theory options" if len(given) > 1 else "a theory option"
+            raise UsageError(f"{', '.join(given)}: {what}; the empirical model takes its body and episode "
+                             "from --morphology")  # fmt: skip
+    elif a.morphology is not None:
+        raise UsageError("--morphology: an empirical option; the theory model has no body parameters")
     w = gridmod.weights(a.weights)
     if a.model == "theory":
         from morphlearn.theory import TheoryParams, evaluate
@@ -67,18 +103,15 @@ def cmd_design(a: argparse.Namespace) -> int:
         )
         res = evaluate(np.array([[*l1, *l2]]), w, p, progress=not a.json)[0]
     else:
+        params = _load_morphology(a.morphology or DEFAULT_MORPHOLOGY)
         with _c_stdout_to_stderr():
-            from morphlearn.empirical import evaluate_design, load_params
+            from morphlearn.empirical import evaluate_design
 
-        from pathlib import Path
-
-        if not Path(a.morphology).is_file():
-            raise UsageError(f"--morphology {a.morphology}: no such file (a YAML of body parameters)")
-        with _c_stdout_to_stderr():
-            res = evaluate_design(l1, l2, w, load_params(a.morphology))
+            res = evaluate_design(l1, l2, w, params)
     dm = design_metrics(~np.isnan(res.first_time), res.status)
     out = {"per_env": dm.per_env, "generalists": dm.generalists,
-           "at_least_one": dm.at_least_one, "M_L": dm.M_L, "M_CF": dm.M_CF}  # fmt: skip
+           "at_least_one": dm.at_least_one, "M_L": dm.M_L, "M_CF": dm.M_CF,
+           "flagged": dm.flagged}  # fmt: skip
     if a.json:
         print(json.dumps(out))
     else:
@@ -93,6 +126,8 @@ def cmd_design(a: argparse.Namespace) -> int:
 def cmd_verify(a: argparse.Namespace) -> int:
     from morphlearn import verify
 
+    if a.samples < 1:
+        raise UsageError(f"--samples = {a.samples}; allowed: >= 1")
     rep = verify.verify(a.merged, samples=a.samples, seed=a.seed, workers=a.workers, time_tol=a.time_tol)
     print(json.dumps(rep.as_dict(), sort_keys=True) if a.json else verify.format_report(rep))
     return 0 if rep.ok else 1
@@ -111,8 +146,8 @@ def build_parser() -> argparse.ArgumentParser:
     d.add_argument("--dt", type=float, default=None, help="use fixed-step RK4 with this step")
     d.add_argument(
         "--morphology",
-        default="config/empirical_morphology.yaml",
-        help="empirical: body parameters YAML (default: the committed morphology)",
+        default=None,
+        help=f"empirical: body parameters YAML (default: {DEFAULT_MORPHOLOGY}, the committed morphology)",
     )
     d.add_argument("--json", action="store_true", help="print one JSON object")
     d.set_defaults(func=cmd_design)
@@ -125,7 +160,12 @@ def build_parser() -> argparse.ArgumentParser:
                    help="first-success times agree within this (0.05)")  # fmt: skip
     v.add_argument("--json", action="store_true", help="print one JSON object")
     v.set_defaults(func=cmd_verify)
+    for parser in (p, d, v):  # argparse takes '-5e-1' for an option: accept every negative number
+        parser._negative_number_matcher = _NEGATIVE_NUMBER
     return p
+
+
+_NEGATIVE_NUMBER = re.compile(r"^-(\d+\.?\d*|\.\d+)([eE][-+]?\d+)?$")
 
 
 def main(argv: Sequence[str] | None = None) -> int:

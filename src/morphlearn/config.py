@@ -5,6 +5,7 @@ from __future__ import annotations
 import copy
 import hashlib
 import json
+import math
 from importlib import resources
 from pathlib import Path
 from typing import Any
@@ -62,6 +63,7 @@ def validate(cfg: dict[str, Any]) -> dict[str, Any]:
     """Validate a config mapping; return a copy with defaults filled. Raises ConfigError."""
     if not isinstance(cfg, dict):
         raise ConfigError(f"config must be a mapping, got {type(cfg).__name__}")
+    _check_finite(cfg, "")
     sch = schema()
     errors = sorted(
         jsonschema.Draft202012Validator(sch).iter_errors(cfg), key=lambda e: list(e.absolute_path)
@@ -74,8 +76,72 @@ def validate(cfg: dict[str, Any]) -> dict[str, Any]:
     return out
 
 
+def _check_finite(obj: Any, key: str) -> None:
+    """NaN and infinity pass JSON-schema bounds (NaN compares False): refuse them everywhere."""
+    if isinstance(obj, dict):
+        for k, v in obj.items():
+            _check_finite(v, f"{key}.{k}" if key else str(k))
+    elif isinstance(obj, list):
+        for i, v in enumerate(obj):
+            _check_finite(v, f"{key}.{i}")
+    elif isinstance(obj, float) and not math.isfinite(obj):
+        raise ConfigError(f"{key} = {obj!r} is not a finite number; allowed: finite numbers in the "
+                          "range the schema gives")  # fmt: skip
+
+
+def _check_results_dir(rd: str) -> None:
+    p = Path(rd)
+    if p.resolve() == Path(p.resolve().anchor):
+        raise ConfigError(f"results_dir = {rd!r} is the file-system root; allowed: a non-empty path "
+                          "other than '/' (default 'results')")  # fmt: skip
+    if p.exists() and not p.is_dir():
+        raise ConfigError(f"results_dir = {rd!r} is an existing file; allowed: a folder (or a new path)")
+
+
+def _check_morphology(cfg: dict[str, Any]) -> None:
+    """The body file is read at start (Fig. 1 and the empirical science): refuse a bad one here."""
+    from morphlearn.empirical.params import load_params
+
+    path = cfg["empirical"].get("morphology", "config/empirical_morphology.yaml")
+    try:
+        load_params(path)
+    except OSError as e:
+        raise ConfigError(f"empirical.morphology = {path!r}: cannot read ({e.strerror}); allowed: a "
+                          "YAML file of body parameters") from None  # fmt: skip
+    except yaml.YAMLError as e:
+        mark = getattr(e, "problem_mark", None)
+        where = f" at line {mark.line + 1}, column {mark.column + 1}" if mark else ""
+        raise ConfigError(f"empirical.morphology = {path!r}: malformed YAML{where}") from None
+    except (ValueError, TypeError) as e:
+        raise ConfigError(f"empirical.morphology = {path!r}: {e}".splitlines()[0]) from None
+
+
+def _check_analysis(a: dict[str, Any], th: dict[str, Any]) -> None:
+    if a.get("horizon") is not None and a["horizon"] > th["horizon"]:
+        raise ConfigError(
+            f"analysis.horizon = {a['horizon']} exceeds theory.horizon = {th['horizon']}; "
+            f"allowed: <= {th['horizon']} (or raise theory.horizon and re-simulate)"
+        )
+    rad = a.get("success_radius")
+    if rad is not None and rad < th["success_radius"]:
+        raise ConfigError(
+            f"analysis.success_radius = {rad} is below theory.success_radius = {th['success_radius']}; "
+            f"allowed: >= {th['success_radius']} or null (or lower theory.success_radius and re-simulate)"
+        )
+    if rad is not None and rad > th["success_radius"] and a.get("horizon") not in (None, th["horizon"]):
+        raise ConfigError(
+            f"analysis.horizon = {a['horizon']} with analysis.success_radius = {rad} above the simulated "
+            f"radius; allowed: null or {th['horizon']} (a larger radius is known only at the simulated horizon)"
+        )
+    if th["success_radius"] >= th["r"]:
+        raise ConfigError(f"theory.success_radius = {th['success_radius']} is not below theory.r = "
+                          f"{th['r']}; allowed: < {th['r']} (the robot would start inside the light)")  # fmt: skip
+
+
 def _check_cross(cfg: dict[str, Any]) -> None:
     from morphlearn.grid import DesignGrid
+
+    _check_results_dir(cfg["results_dir"])
 
     g = DesignGrid(cfg["grid"]["positions_per_axis"])
     n_eval = len(g.representatives()) if cfg["sweep"]["mirror_symmetry"] else g.size
@@ -87,13 +153,10 @@ def _check_cross(cfg: dict[str, Any]) -> None:
     emp = cfg.get("empirical")
     if emp and emp.get("enabled"):
         _check_empirical(cfg, g)
-    a = cfg["analysis"]
     th = cfg["theory"]
-    if a.get("horizon") is not None and a["horizon"] > th["horizon"]:
-        raise ConfigError(
-            f"analysis.horizon = {a['horizon']} exceeds theory.horizon = {th['horizon']}; "
-            f"allowed: <= {th['horizon']} (or raise theory.horizon and re-simulate)"
-        )
+    _check_analysis(cfg["analysis"], th)
+    if (emp and emp.get("enabled")) or cfg["figures"]["enabled"]:
+        _check_morphology(cfg)
     if cfg.get("render_only") and not (cfg["figures"]["enabled"] and th.get("enabled", True)):
         raise ConfigError(
             "render_only = true needs figures.enabled and theory.enabled; allowed: render_only = false "

@@ -83,23 +83,31 @@ def design_metrics(succ: np.ndarray, status: np.ndarray | None = None) -> Design
 
 
 def metrics_table(ds: xr.Dataset, th: Thresholds, block: int = 64) -> pd.DataFrame:
-    """One row per design of a merged dataset, streamed in blocks of designs."""
+    """One row per design of a merged dataset (opened with ``store.open_merged``), streamed in
+    blocks of designs, each chunk verified against its digest. A subset store is refused: the
+    metrics (and ranks) are of the whole sweep."""
+    from morphlearn import store
+
+    if "subset_of" in ds.attrs:
+        raise store.IntegrityError(
+            f"{ds.encoding.get('morphlearn_path', 'merged store')}: a subset of "
+            f"{ds.attrs.get('subset_source_designs')} designs (subset_of {ds.attrs['subset_of'][:12]}...); "
+            "metrics need the whole merged store"
+        )
     rows = []
-    n = ds.sizes["design"]
     model = ds.attrs.get("model", "")
-    for a in range(0, n, block):
-        sl = slice(a, min(a + block, n))
-        part = ds.isel(design=sl)
-        ft = part["first_time"].values
-        md = part["min_dist"].values
-        stt = part["status"].values
-        succ = success(ft, md, th)
+    designs = ds["design"].values
+    coords = {c: ds[c].values for c in ("l1x", "l1y", "l2x", "l2y")}
+    for sl, arrays in store.read_blocks(ds, block):
+        succ = success(arrays["first_time"], arrays["min_dist"], th)
+        stt = arrays["status"]
         for i in range(succ.shape[0]):
             dm = design_metrics(succ[i], stt[i])
+            j = sl.start + i
             row = {
                 "model": model,
-                "design": int(part["design"].values[i]),
-                **{c: float(part[c].values[i]) for c in ("l1x", "l1y", "l2x", "l2y")},
+                "design": int(designs[j]),
+                **{c: float(coords[c][j]) for c in ("l1x", "l1y", "l2x", "l2y")},
             }
             row.update({f"n_{ang}": c for ang, c in zip(ENV_ANGLES_DEG, dm.per_env, strict=True)})
             row.update(generalists=dm.generalists, at_least_one=dm.at_least_one, M_L=dm.M_L,

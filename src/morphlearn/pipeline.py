@@ -84,8 +84,9 @@ def run_shard(cfg: dict[str, Any], model: str, shard: int, out: str | Path) -> N
     designs = shard_designs(cfg, model)[shard]
     sci = science(cfg, model)
     results = evaluate_designs(cfg, model, designs)
+    prov = provenance.record(sci) | provenance.backend(cfg, model)
     store.write_shard(out, model=model, grid=g, weights=weights(cfg, model), designs=designs,
-                      results=results, science=sci, provenance=provenance.record(sci))  # fmt: skip
+                      results=results, science=sci, provenance=prov)  # fmt: skip
 
 
 def run_merge(cfg: dict[str, Any], model: str, shards: list[str], out: str | Path) -> None:
@@ -96,6 +97,17 @@ def run_merge(cfg: dict[str, Any], model: str, shards: list[str], out: str | Pat
         shard_designs=shard_designs(cfg, model), science=sci, mirror=mirror_derived(cfg, model),
         provenance=provenance.record(sci, shards),
     )  # fmt: skip
+
+
+def check_render_inputs(paths: list[str]) -> None:
+    """Render-only starts only from complete results: every file present, every merged store's
+    digest record, coordinates and chunk files intact (raises store.IntegrityError naming the
+    first). The figures verify each design's chunks when they read them."""
+    for p in sorted(paths):
+        if not Path(p).exists():
+            raise store.IntegrityError(f"{p}: missing (render_only re-renders from stored results)")
+        if p.endswith(".zarr"):
+            store.check_merged_files(p)
 
 
 def thresholds(cfg: dict[str, Any], model: str) -> metrics.Thresholds:
@@ -114,8 +126,11 @@ def thresholds(cfg: dict[str, Any], model: str) -> metrics.Thresholds:
 
 def run_metrics(cfg: dict[str, Any], model: str, merged: str | Path, out_csv: str | Path) -> None:
     th = thresholds(cfg, model)
-    table = metrics.metrics_table(store.open_merged(merged), th)
-    _write_csv_with_provenance(table, out_csv, {"thresholds": th.__dict__, "model": model}, [merged])
+    ds = store.open_merged(merged)
+    table = metrics.metrics_table(ds, th)  # verifies every chunk before anything is written
+    subset = {"thresholds": th.__dict__, "model": model,
+              "merged_sha256_overall": ds.attrs["integrity"]["overall"]}  # fmt: skip
+    _write_csv_with_provenance(table, out_csv, subset, [merged])
 
 
 def _write_csv_with_provenance(

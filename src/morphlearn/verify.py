@@ -10,11 +10,19 @@ integrated with :func:`morphlearn.theory.reference.reference_trajectory` and com
 - **first-success time**: where both succeed, ``|stored - reference| <= time_tol``.
 
 A disagreement is *near the boundary* (expected from tiny numerical differences, see
-``docs/model.md``) when the reference's closest approach is within ``2e-3`` of the success radius,
-the success happens within 1 time unit of the horizon, or either side stopped the trajectory
-(singular trajectories: stored ``status != 0`` or reference status != 0). Other disagreements are
-*unexplained*. The command exits 1 when there is an unexplained success disagreement or a
-first-success time outside ``time_tol``, 0 otherwise.
+``docs/model.md``) only where the side that did *not* succeed came genuinely close: its closest
+approach within ``2e-3`` of the success radius (a successful trajectory stops at the radius, so
+its own closest approach says nothing), or the success happens within 1 time unit of the horizon,
+or either side stopped the trajectory (singular trajectories: stored ``status != 0`` or reference
+status != 0). Other disagreements are *unexplained*.
+
+Besides the sample, every stored cell of the whole store is checked for internal consistency:
+status in 0..3, ``min_dist`` a number >= 0, a ``first_time`` in [0, horizon] only with
+``min_dist <= radius``, and ``min_dist`` below the radius only with a ``first_time`` (a lost
+success). Every chunk is verified against the store's digests on the way.
+
+Exit codes (``morphlearn verify``): 0 agree; 1 an unexplained disagreement, a first-success time
+outside ``time_tol`` or an inconsistent cell; 2 unusable input (missing, unreadable or damaged).
 """
 
 from __future__ import annotations
@@ -84,24 +92,57 @@ class Report:
     reference_stopped: int = 0
     stored_flagged: int = 0
     disagreements: list[dict[str, Any]] = field(default_factory=list)
+    cells_checked: int = 0
+    #: Whole-store consistency: cells with min_dist below the radius and no first_time.
+    lost_successes: int = 0
+    #: Other inconsistent cells: bad status, bad min_dist, first_time out of range or far away.
+    inconsistent: int = 0
+    inconsistent_examples: list[str] = field(default_factory=list)
 
     @property
     def ok(self) -> bool:
-        return self.disagree_unexplained == 0 and self.first_time_agree == self.both_succeed
+        return (self.disagree_unexplained == 0 and self.first_time_agree == self.both_succeed
+                and self.lost_successes == 0 and self.inconsistent == 0)  # fmt: skip
 
     def as_dict(self) -> dict[str, Any]:
         return asdict(self) | {"ok": self.ok}
 
 
 def near_boundary(c: Cell, radius: float, horizon: float) -> bool:
-    """A cell where a tiny numerical difference may flip success (as in tests/test_theory.py)."""
+    """A success disagreement that a tiny numerical difference may explain. Only the failing
+    side's closest approach counts: the succeeding side stopped at the radius by construction."""
+    failing_dist = c.stored_dist if c.ref_success else c.ref_dist
+    success_time = c.ref_time if c.ref_success else c.stored_time
     return (
         c.ref_status != 0
         or c.stored_status != 0
-        or abs(c.ref_dist - radius) < DIST_TOL
-        or (c.ref_success and horizon - c.ref_time < HORIZON_TOL)
-        or (c.stored_success and horizon - c.stored_time < HORIZON_TOL)
+        or abs(failing_dist - radius) < DIST_TOL
+        or horizon - success_time < HORIZON_TOL
     )
+
+
+def check_consistency(ds: Any, radius: float, horizon: float, rep: Report) -> None:
+    """Every stored cell (all chunks, verified against their digests) against the definitions."""
+    from morphlearn import store
+
+    designs = ds["design"].values
+    for sl, a in store.read_blocks(ds):
+        ft, md, st = a["first_time"], a["min_dist"], a["status"]
+        rep.cells_checked += ft.size
+        has_t = ~np.isnan(ft)
+        lost = ~has_t & (md < radius)  # NaN min_dist compares False: counted below
+        with np.errstate(invalid="ignore"):
+            bad = ((st < 0) | (st > 3) | ~np.isfinite(md) | (md < 0)
+                   | (has_t & ((ft < 0) | (ft > horizon) | (md > radius))))  # fmt: skip
+        rep.lost_successes += int(lost.sum())
+        rep.inconsistent += int(bad.sum())
+        for kind, mask in (("min_dist below the radius but no first_time", lost), ("inconsistent", bad)):
+            for i, e, w1, w2 in np.argwhere(mask)[: 3 - len(rep.inconsistent_examples)]:
+                rep.inconsistent_examples.append(
+                    f"design {int(designs[sl.start + i])} env index {e} w index ({w1}, {w2}): {kind} "
+                    f"(first_time {ft[i, e, w1, w2]:.6g}, min_dist {md[i, e, w1, w2]:.6g}, "
+                    f"status {st[i, e, w1, w2]})"
+                )
 
 
 def read_parameters(ds: Any, path: str | Path) -> dict[str, Any]:
@@ -169,11 +210,20 @@ def verify(
         raise VerifyError(f"--time-tol = {time_tol}; allowed: > 0")
     if not path.exists():
         raise VerifyError(f"--merged {path}: not found (a merged.zarr made by the workflow)")
+    if not np.isfinite(time_tol):
+        raise VerifyError(f"--time-tol = {time_tol}; allowed: a finite number > 0")
     try:
         ds = store.open_merged(path)  # it ignores Snakemake's timestamp file in directory outputs
+    except store.IntegrityError as e:
+        raise VerifyError(f"--merged {e}") from None
     except Exception as e:  # zarr/xarray raise many kinds
         raise VerifyError(f"--merged {path}: not a readable Zarr dataset ({type(e).__name__})") from None
     par = read_parameters(ds, path)
+    rep = Report(merged=str(path), samples=0, seed=seed, parameters=par, time_tol=time_tol)
+    try:
+        check_consistency(ds, par["success_radius"], par["horizon"], rep)  # also verifies every chunk
+    except store.IntegrityError as e:
+        raise VerifyError(f"--merged {e}") from None
     cells = sample_cells(ds, samples, seed)
     starts = gridmod.env_starts(par["r"])
     env_index = {a: i for i, a in enumerate(gridmod.ENV_ANGLES_DEG)}
@@ -184,7 +234,7 @@ def verify(
     else:  # spawn, not fork: forking after numba's threads started can deadlock the children
         with multiprocessing.get_context("spawn").Pool(workers) as pool:
             refs = pool.map(_reference, jobs, chunksize=max(1, len(jobs) // (8 * workers)))
-    rep = Report(merged=str(path), samples=len(cells), seed=seed, parameters=par, time_tol=time_tol)
+    rep.samples = len(cells)
     diffs = []
     for c, (t, dist, st) in zip(cells, refs, strict=True):
         c.ref_time, c.ref_dist, c.ref_status = float(t), float(dist), int(st)
@@ -233,6 +283,12 @@ def format_report(rep: Report) -> str:
     lines.append(
         f"flagged (stopped) trajectories: stored {rep.stored_flagged}, reference {rep.reference_stopped}"
     )
+    lines.append(
+        f"whole store ({rep.cells_checked} cells, every chunk's digest verified): {rep.lost_successes} "
+        f"lost successes (min_dist below the radius but no first_time), {rep.inconsistent} other "
+        "inconsistent cells"
+    )
+    lines += [f"  {x}" for x in rep.inconsistent_examples]
     for d in rep.disagreements:
         lines.append(
             f"  {d['kind']}: {'near boundary' if d['near_boundary'] else 'UNEXPLAINED'}: "

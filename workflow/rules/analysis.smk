@@ -13,7 +13,9 @@ rule merge:
             f"{R}/{w.model}/shards/shard_{{shard}}.nc", shard=shard_ids(w.model)
         ),
     output:
-        directory(f"{R}/{{model}}/merged.zarr"),
+        # update: Snakemake keeps (and on failure restores) the previous store instead of deleting
+        # it before the job; the merge writes aside and swaps only on success.
+        update(directory(f"{R}/{{model}}/merged.zarr")),
     log:
         f"{R}/logs/{{model}}/merge.log",
     benchmark:

@@ -67,3 +67,14 @@ def figure_data(fig):
     return [
         f"{R}/{m}/{name}" for m in models for name in ("metrics.csv", "merged.zarr")
     ]
+
+
+# render_only: refuse to start, by name, when a stored result is missing or fails its digests.
+if RENDER_ONLY and FIGURES:
+    try:
+        pipeline.check_render_inputs(
+            [f"{R}/{m}/{n}" for m in MODELS for n in ("metrics.csv", "merged.zarr")]
+        )
+    except ValueError as err:
+        print(f"morphlearn: render_only: {err}", file=sys.stderr)
+        sys.exit(2)

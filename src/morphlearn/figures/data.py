@@ -100,11 +100,11 @@ class ModelResults:
 
     def success(self, pos: int) -> np.ndarray:
         """(4, m, m) success of the design at dataset position ``pos`` ([env, i_w1, i_w2])."""
-        d = self.ds.isel(design=pos)
-        ft = d["first_time"].values
+        d = store.read_design(self.ds, pos)  # verified against the store's digests
+        ft = d["first_time"]
         if self.thresholds is None:
             return np.isfinite(ft)
-        return metrics.success(ft, d["min_dist"].values, self.thresholds)
+        return metrics.success(ft, d["min_dist"], self.thresholds)
 
     def overlap(self, pos: int) -> np.ndarray:
         """(m, m) overlap O = number of environments solved, [i_w1, i_w2]."""
@@ -135,7 +135,7 @@ def load_results(results_dir: str | Path, model: str, thresholds: dict[str, floa
     if not table_path.is_file() or not merged_path.exists():
         return None
     table = pd.read_csv(table_path)
-    ds = store.open_merged(merged_path)
+    ds = store.open_merged(merged_path)  # verifies the coordinates; read_design the chunks
     return ModelResults(model, table, ds, thresholds_from(thresholds),
                         {"metrics": str(table_path), "merged": str(merged_path)})  # fmt: skip
 
