@@ -121,6 +121,9 @@ def test_distribution_marks_and_missing_panel() -> None:
     fig, (a, b) = plt.subplots(1, 2)
     distribution.distribution(a, np.array([0.0, 0.0, 0.1, 0.3]), "M_L", "t", [("best", 0.3, "-")], "subset")
     assert sum(p.get_height() for p in a.patches) == 4  # every design counted once
+    fig.canvas.draw()  # and the bars are drawn on the log axis (seaborn's log_scale lost them)
+    shown = [p.get_window_extent().height for p in a.patches if p.get_height() > 0]
+    assert len(shown) == 3 and all(np.isfinite(h) and h > 1 for h in shown)
     assert [t.get_text() for t in a.get_legend().get_texts()] == ["best: 0.3"]
     panel.missing(b, title="empirical")
     assert panel.MISSING_TEXT in [t.get_text() for t in b.texts]

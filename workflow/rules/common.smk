@@ -77,3 +77,19 @@ def figure_modules(fig):
     """Every package module the figure's notebook imports, directly or through other package
     modules: editing any of them re-renders the figure (and no other code does)."""
     return figure_registry.notebook_modules(figure_registry.notebook_path(fig), "src")
+
+
+def figure_parameters(fig):
+    """The notebook's parameters (papermill -y), as YAML that PyYAML reads back exactly."""
+    return lambda w, input, output: yaml.safe_dump(
+        {
+            "results_dir": str(Path(output.png).parents[1]),
+            "png": output.png,
+            "pdf": output.pdf,
+            "caption": output.caption,
+            "style": input.style,
+            **FIGURE_OPTIONS[fig],
+        },
+        default_flow_style=True,
+        width=10**6,
+    ).strip()

@@ -9,22 +9,6 @@ localrules:
     figures,
 
 
-def figure_parameters(fig):
-    """The notebook's parameters (papermill -y), as YAML that PyYAML reads back exactly."""
-    return lambda w, input, output: yaml.safe_dump(
-        {
-            "results_dir": str(Path(output.png).parents[1]),
-            "png": output.png,
-            "pdf": output.pdf,
-            "caption": output.caption,
-            "style": input.style,
-            **FIGURE_OPTIONS[fig],
-        },
-        default_flow_style=True,
-        width=10**6,
-    ).strip()
-
-
 for _fig in FIGURES:
 
     rule:

@@ -21,7 +21,8 @@ def distribution(ax: Axes, values: np.ndarray, metric: str, title: str,
     hi = max(float(v.max()) if v.size else 0.0, 1e-9)
     # Log counts: most designs sit near 0 and the few good ones would be invisible on a linear axis.
     sns.histplot(x=v, bins=np.linspace(0.0, hi * 1.02, bins + 1), ax=ax, color="#5b7fb0", edgecolor="white",
-                 linewidth=0.5, log_scale=(False, True))  # fmt: skip
+                 linewidth=0.5)  # fmt: skip
+    ax.set_yscale("log", nonpositive="clip")  # seaborn's log_scale drops bars that start at 0
     ax.set_ylim(0.7, None)
     ax.set_xlabel(metric)
     ax.set_ylabel("designs (log scale)")

@@ -45,7 +45,7 @@ def overlap_image(ax: Axes, overlap: np.ndarray, weights: np.ndarray, title: str
 
 
 def overlap_colorbar(fig: Figure, im: AxesImage, axes: Sequence[Axes] | Axes) -> Colorbar:
-    cb = fig.colorbar(im, ax=axes, ticks=range(5), fraction=0.04, pad=0.02)
+    cb = fig.colorbar(im, ax=axes, ticks=range(5), shrink=0.7, pad=0.02)
     cb.ax.set_yticklabels(OVERLAP_LABELS)
     cb.set_label("environments solved, O")
     return cb
