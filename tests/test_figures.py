@@ -1,122 +1,215 @@
-"""Figures, reproduction table and report, from the smoke run's results (notebooks really run)."""
+"""morphlearn.figures' public functions on small synthetic data (no workflow run: seconds)."""
 
 from __future__ import annotations
 
 import json
-import shutil
-import time
 from pathlib import Path
 
-import matplotlib.image as mpimg
+import matplotlib.pyplot as plt
 import numpy as np
 import pandas as pd
 import pytest
+import xarray as xr
 import yaml
-from conftest import copy_workflow, job_stats, snakemake
 
-from morphlearn import config, pipeline
-from morphlearn.figures.make import DPI, SIZES
-from morphlearn.figures.reproduction import QUANTITIES
+from morphlearn import config, grid, pipeline
+from morphlearn.figures import caption, data, output, registry
+from morphlearn.figures.draw import distribution, matrix, panel, sketch
 
-SIM_RULES = {"theory_shard", "empirical_shard", "merge", "metrics", "summary"}
-
-
-@pytest.mark.parametrize("fig", pipeline.FIGURES)
-def test_figure_is_a_non_blank_image_of_the_expected_size(smoke_run: Path, fig: str) -> None:
-    out = smoke_run / "results/figures"
-    img = mpimg.imread(out / f"{fig}.png")
-    w, h = SIZES[fig]
-    assert img.shape[:2] == (round(h * DPI), round(w * DPI))
-    rgb = img[..., :3]
-    assert rgb.std() > 0.05  # not one flat colour
-    assert len(np.unique(rgb.reshape(-1, 3).round(2), axis=0)) > 50  # drawn content, not a blank page
-    assert (out / f"{fig}.pdf").read_bytes().startswith(b"%PDF")
-    caption = (out / f"{fig}.caption.md").read_text()
-    assert caption.startswith("**Figure ") and "**Data and config.**" in caption
-    if fig != "fig1":
-        assert "git commit test" in caption and "sha256" in caption
-    # The executed notebook is the rule's log, exported to HTML, and ran without an error.
-    nb = json.loads((smoke_run / f"results/logs/figures/{fig}.ipynb").read_text())
-    outputs = [o for c in nb["cells"] if c["cell_type"] == "code" for o in c.get("outputs", [])]
-    assert not [o for o in outputs if o.get("output_type") == "error"]
-    assert any("image/png" in o.get("data", {}) for o in outputs)
-    assert "<html" in (out / f"{fig}.html").read_text()[:2000].lower()
+ROOT = Path(__file__).parents[1]
+W = np.array([-1.0, 0.0, 1.0])
+DESIGNS = [((0.5, 0.5), (0.5, -0.5)), ((-0.5, -0.25), (0.5, 0.25))]
 
 
-def test_reproduction_table_has_every_quantity(smoke_run: Path) -> None:
-    t = pd.read_csv(smoke_run / "results/reproduction.csv")
-    assert t.key.tolist() == [k for k, _, _ in QUANTITIES]
-    assert t.ours.notna().all() and t.paper.notna().all()
-    md = (smoke_run / "results/reproduction.md").read_text()
-    assert all(q in md for _, q, _ in QUANTITIES)
-    # the canonical design is in the smoke run: its rows hold numbers, not "not in this run"
-    canon = t.set_index("key").loc["theory_canonical_M_L", "ours"]
-    assert 0.0 <= float(canon) <= 1.0
-    pers = pd.read_csv(smoke_run / "results/persistence.csv")
-    assert set(pers.design) <= {"canonical", "best_M_L", "paper_best"} and pers.stays_near.dtype == bool
+def synthetic(designs=DESIGNS, generalists=(2, 0)) -> data.ModelResults:
+    """Two designs on a 3 x 3 weight grid; design k solves all four environments with its first
+    ``generalists[k]`` controllers (grid order) and environment 0 only with the rest."""
+    n = len(designs)
+    ft = np.full((n, 4, 3, 3), np.inf)
+    ft[:, 0] = 1.0
+    for k, g in enumerate(generalists):
+        flat = ft[k].reshape(4, 9)
+        flat[:, :g] = 1.0
+    c = np.array([[*a, *b] for a, b in designs])
+    ds = xr.Dataset(
+        {"first_time": (("design", "env", "w1", "w2"), ft),
+         "min_dist": (("design", "env", "w1", "w2"), np.zeros_like(ft))},
+        coords={"design": np.arange(n), "w1": W, "w2": W,
+                **{k: ("design", c[:, i]) for i, k in enumerate(("l1x", "l1y", "l2x", "l2y"))}},
+    )  # fmt: skip
+    table = pd.DataFrame({"design": np.arange(n), "l1x": c[:, 0], "l1y": c[:, 1], "l2x": c[:, 2], "l2y": c[:, 3],
+                          "generalists": list(generalists), "M_L": [g / 9 for g in generalists],
+                          "M_CF": [g / 9 for g in generalists]})  # fmt: skip
+    return data.ModelResults("theory", table, ds, None, {"metrics": "m.csv", "merged": "merged.zarr"})
 
 
-def test_editing_one_notebook_rerenders_only_that_figure(smoke_run: Path) -> None:
-    # Snakemake compares input checksums, so a touch is not an edit: change the content.
-    nb = smoke_run / "notebooks/fig3.ipynb"
-    original = nb.read_bytes()
-    try:
-        nb.write_bytes(original.replace(b"# Figure 3.", b"# Figure 3 (edited)."))
-        proc = snakemake(smoke_run, "-n", "--cores", "1", "--configfile", "config/smoke.yaml")
-    finally:
-        nb.write_bytes(original)
-    assert job_stats(proc.stdout + proc.stderr) == {"figure_fig3": 1, "all": 1}
+# ---------------------------------------------------------------------------------------------- data
 
 
-def test_figure_parameter_rerenders_figures_without_simulating(smoke_run: Path) -> None:
-    change = smoke_run / "near.yaml"
-    change.write_text(yaml.safe_dump({"figures": {"near_distance": 0.5}}))
-    proc = snakemake(smoke_run, "-n", "--cores", "1", "--configfile", "config/smoke.yaml", str(change))
-    stats = job_stats(proc.stdout + proc.stderr)
-    assert stats == {"figure_fig4": 1, "figure_fig5": 1, "reproduction": 1, "all": 1}
+def test_overlap_and_best_of_synthetic_results() -> None:
+    res = synthetic()
+    o = res.overlap(res.position(*DESIGNS[0]))
+    assert (o == 4).sum() == 2 and (o == 1).sum() == 7
+    assert data.row_design(res.best("M_L")) == DESIGNS[0]
 
 
-def test_reviewer_rerenders_from_stored_results_only(smoke_run: Path, tmp_path: Path) -> None:
-    """A reviewer's clone with only the merged results and metrics (no shards, no .snakemake)."""
-    wd = copy_workflow(tmp_path / "reviewer")
-    for model in ("theory", "empirical"):
-        dst = wd / "results" / model
-        dst.mkdir(parents=True)
-        for name in ("metrics.csv", "metrics.provenance.json"):
-            shutil.copy2(smoke_run / "results" / model / name, dst / name)
-        shutil.copytree(smoke_run / "results" / model / "merged.zarr", dst / "merged.zarr")
-    t0 = time.perf_counter()
-    proc = snakemake(wd, "--cores", "2", "--configfile", "config/smoke.yaml", "--config", "render_only=True",
-                     "--forceall")  # fmt: skip
-    wall = time.perf_counter() - t0
-    stats = job_stats(proc.stdout + proc.stderr)
-    print(f"re-rendered {sum(v for k, v in stats.items() if k.startswith('figure_'))} figures in {wall:.0f} s")
-    assert not SIM_RULES & set(stats)
-    assert {f"figure_{f}" for f in pipeline.FIGURES} <= set(stats) and "reproduction" in stats
-    assert not (wd / "results/theory/shards").exists()
-    for fig in pipeline.FIGURES:  # same pictures as the full run's (deterministic rendering)
-        assert (wd / f"results/figures/{fig}.png").read_bytes() == (
-            smoke_run / f"results/figures/{fig}.png"
-        ).read_bytes(), fig
-    # and the report of that run
-    snakemake(wd, "--configfile", "config/smoke.yaml", "--config", "render_only=True", "--report",
-              "results/report.html")  # fmt: skip
-    html = (wd / "results/report.html").read_text()
-    assert "Overlapped binary success matrices" in html and "Reproduction" in html
+def test_a_design_missing_from_the_dataset_is_an_error_naming_it() -> None:
+    res = synthetic()
+    res = data.ModelResults(res.model, res.table, res.ds.isel(design=[1]), None, res.paths)  # dataset: a subset
+    assert res.find(*DESIGNS[0]) is None
+    with pytest.raises(ValueError, match=r"l1 = \(0.5, 0.5\), l2 = \(0.5, -0.5\) is not in merged.zarr .*Fig. 9"):
+        res.position(*DESIGNS[0], "Fig. 9")
+    assert res.position(*DESIGNS[1]) == 0
 
 
-def test_report_of_the_main_run(smoke_run: Path) -> None:
-    snakemake(smoke_run, "--configfile", "config/smoke.yaml", "--report", "results/report.html")
-    html = (smoke_run / "results/report.html").read_text()
-    for title in ("Modelling the robot", "Overlapped binary success", "The best designs", "canonical design",
-                  "best design by M_L", "Measuring learnability", "Distributions of M_L"):  # fmt: skip
-        assert title in html, title
-    assert "Provenance" in html and "metrics.provenance.json" in html
+def test_results_loading_required_and_optional(tmp_path: Path) -> None:
+    with pytest.raises(FileNotFoundError, match="no theory results"):
+        data.require_results(tmp_path, "theory")
+    assert data.optional_results(tmp_path, "empirical", enabled=False) is None
+    with pytest.raises(FileNotFoundError, match="no empirical results"):
+        data.optional_results(tmp_path, "empirical", enabled=True)
 
 
-def test_render_only_needs_figures() -> None:
-    base = yaml.safe_load((Path(__file__).parents[1] / "config.yaml").read_text())
-    with pytest.raises(config.ConfigError, match="render_only"):
-        config.validate({**base, "render_only": True, "figures": {"enabled": False}})
-    with pytest.raises(config.ConfigError, match=r"figures\.fig2_envs"):
-        config.validate({**base, "figures": {"fig2_envs": [45, 50]}})
+def test_pick_controllers_prefers_generalists_then_nearest() -> None:
+    o = np.array([[4, 1, 1], [1, 4, 1], [1, 1, 3]])
+    picks = data.pick_controllers(o, W, [(1.0, 1.0), (0.9, 0.9), (1.0, 1.0)])
+    assert [(c.w1, c.w2, c.overlap) for c in picks] == [(0.0, 0.0, 4), (-1.0, -1.0, 4), (1.0, 1.0, 3)]
+    assert picks[2].exact and not picks[0].exact
+
+
+# ---------------------------------------------------------------------------------------------- caption
+
+
+def test_caption_and_metric_line() -> None:
+    row = synthetic().best("M_L")
+    assert caption.metric_line(row, 9) == "M_L = 0.2222 (2 of 9 controllers), M_CF = 0.2222"
+    assert caption.design_text(row) == "l1 = (0.5, 0.5), l2 = (0.5, -0.5)"
+    text = caption.caption("Figure 9. Test.", ["body", ""], "**Data and config.** none")
+    assert text == "**Figure 9. Test.**\n\nbody\n\n**Data and config.** none\n"
+
+
+def test_resolution_note_names_the_subset() -> None:
+    res = synthetic()
+    res.ds.attrs["science_json"] = json.dumps({"grid": {"positions_per_axis": 3}})
+    assert caption.resolution_note(res) == (
+        "reduced resolution (3 positions per axis, 3 weights, 2 of 81 designs; the paper used 9 and 121, all designs)"
+    )
+
+
+# ---------------------------------------------------------------------------------------------- drawing
+
+
+def test_success_pair_counts_each_category() -> None:
+    fig, ax = plt.subplots()
+    a = np.array([[1, 1, 0], [0, 0, 0], [1, 0, 0]], bool)
+    b = np.array([[1, 0, 0], [1, 0, 0], [0, 0, 0]], bool)
+    handles = matrix.success_pair(ax, a, b, W, ("45°", "135°"), "t")
+    assert [h.get_label() for h in handles] == ["neither (5)", "45° only (2)", "135° only (1)", "both: 45° ∩ 135° (1)"]
+    plt.close(fig)
+
+
+def test_overlap_image_puts_w1_on_x() -> None:
+    fig, ax = plt.subplots()
+    o = np.zeros((3, 3), int)
+    o[2, 0] = 4  # w1 = 1, w2 = -1: bottom right
+    im = matrix.overlap_image(ax, o, W, "t")
+    assert im.get_array()[0, 2] == 4 and im.get_extent() == [-1.5, 1.5, -1.5, 1.5]
+    plt.close(fig)
+
+
+def test_distribution_marks_and_missing_panel() -> None:
+    fig, (a, b) = plt.subplots(1, 2)
+    distribution.distribution(a, np.array([0.0, 0.0, 0.1, 0.3]), "M_L", "t", [("best", 0.3, "-")], "subset")
+    assert sum(p.get_height() for p in a.patches) == 4  # every design counted once
+    fig.canvas.draw()  # and the bars are drawn on the log axis (seaborn's log_scale lost them)
+    shown = [p.get_window_extent().height for p in a.patches if p.get_height() > 0]
+    assert len(shown) == 3 and all(np.isfinite(h) and h > 1 for h in shown)
+    assert [t.get_text() for t in a.get_legend().get_texts()] == ["best: 0.3"]
+    panel.missing(b, title="empirical")
+    assert panel.MISSING_TEXT in [t.get_text() for t in b.texts]
+    plt.close(fig)
+
+
+def test_robot_sketch_draws_sensors_where_asked() -> None:
+    fig, ax = plt.subplots()
+    sketch.robot(ax, (0.5, 0.25), (-0.5, -0.25))
+    red = [p.center for p in ax.patches if hasattr(p, "center") and p.get_facecolor()[0] > 0.8]
+    assert sorted(map(tuple, red)) == [(-0.5, -0.25), (0.5, 0.25)]
+    plt.close(fig)
+
+
+# ---------------------------------------------------------------------------------------------- output
+
+
+def test_readability_check_and_save(tmp_path: Path) -> None:
+    output.use_style(ROOT / registry.STYLE)
+    fig, ax = plt.subplots(figsize=(6, 3))
+    ax.set_title("readable")
+    out = {k: tmp_path / f"f.{k}" for k in ("png", "pdf", "md")}
+    output.save(fig, "cap\n", out["png"], out["pdf"], out["md"])
+    assert plt.imread(out["png"]).shape[:2] == (3 * output.DPI, 6 * output.DPI)
+    assert out["pdf"].read_bytes().startswith(b"%PDF") and out["md"].read_text() == "cap\n"
+    ax.text(0, 0, "tiny", fontsize=6)
+    fig.set_size_inches(15, 3)
+    problems = output.readability_problems(fig)
+    assert problems == ["figure is 15 in wide, more than 12", "text 'tiny' is smaller than 9 pt"]
+    with pytest.raises(ValueError, match="not readable"):
+        output.save(fig, "cap\n", *out.values())
+    plt.close(fig)
+
+
+# ---------------------------------------------------------------------------------------------- registry
+
+
+def _write(p: Path, text: str) -> None:
+    p.parent.mkdir(parents=True, exist_ok=True)
+    p.write_text(text)
+
+
+def test_notebook_modules_follow_imports_transitively(tmp_path: Path) -> None:
+    src = tmp_path / "src"
+    pkg = src / "morphlearn"
+    _write(pkg / "__init__.py", "")
+    _write(pkg / "figures/__init__.py", "")
+    _write(pkg / "figures/draw/__init__.py", "")
+    _write(pkg / "figures/draw/a.py", "from morphlearn.figures.draw.b import thing\n")
+    _write(pkg / "figures/draw/b.py", "def thing():\n    from . import c  # lazy, still a dependency\n")
+    _write(pkg / "figures/draw/c.py", "import numpy\n")
+    _write(pkg / "figures/draw/unused.py", "")
+    _write(pkg / "grid.py", "")
+    nb = {"cells": [
+        {"cell_type": "markdown", "source": ["import morphlearn.figures.draw.unused"]},
+        {"cell_type": "code", "source": ["%matplotlib inline\n", "from morphlearn.figures.draw import a\n",
+                                         "from morphlearn import grid\n", "import pandas"]},
+    ]}  # fmt: skip
+    _write(tmp_path / "fig9.ipynb", json.dumps(nb))
+    got = registry.notebook_modules(tmp_path / "fig9.ipynb", src)
+    rel = sorted(str(Path(p).relative_to(src)) for p in got)
+    assert rel == ["morphlearn/__init__.py", "morphlearn/figures/__init__.py", "morphlearn/figures/draw/__init__.py",
+                   "morphlearn/figures/draw/a.py", "morphlearn/figures/draw/b.py", "morphlearn/figures/draw/c.py",
+                   "morphlearn/grid.py"]  # fmt: skip
+
+
+def _parameters(nb: Path) -> set[str]:
+    cells = json.loads(nb.read_text())["cells"]
+    cell = next(c for c in cells if "parameters" in c["metadata"].get("tags", []))
+    return {ln.split("=")[0].strip() for ln in "".join(cell["source"]).splitlines() if "=" in ln and ln[0] != "#"}
+
+
+@pytest.mark.parametrize("empirical", [True, False])
+def test_every_registered_figure_has_a_notebook_taking_its_options(empirical: bool) -> None:
+    """The rule passes the output paths, the style and the registry's options: the notebook's
+    parameters cell must name each (papermill would only warn)."""
+    base = yaml.safe_load((ROOT / "config.yaml").read_text())
+    cfg = config.validate({**base, "empirical": {**base.get("empirical", {}), "enabled": empirical}})
+    assert set(registry.FIGURES) == {p.stem for p in (ROOT / "notebooks").glob("*.ipynb")}
+    for fig in registry.FIGURES:
+        names = _parameters(ROOT / registry.notebook_path(fig))
+        passed = {"results_dir", "png", "pdf", "caption", "style", *pipeline.figure_options(cfg, fig)}
+        assert passed <= names, (fig, passed - names)
+    assert "empirical_thresholds" not in pipeline.figure_options(cfg, "fig6") or empirical
+    assert pipeline.figure_options(cfg, "fig2")["fig2_envs"] == cfg["figures"]["fig2_envs"]
+
+
+def test_grid_helpers_used_by_the_notebooks_exist() -> None:
+    assert grid.canonical_design() == DESIGNS[0]

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
@@ -12,11 +13,12 @@ import pandas as pd
 from morphlearn import config as cfgmod
 from morphlearn import grid as gridmod
 from morphlearn import metrics, provenance, store
+from morphlearn.figures.registry import FIGURES as FIGURE_SPECS
 from morphlearn.theory import TheoryParams, evaluate
 
 MODELS = ("theory", "empirical")
-#: The paper's seven figures: one notebook and one rule each (morphlearn.figures draws them).
-FIGURES = tuple(f"fig{i}" for i in range(1, 8))
+#: The figures, one notebook and one rule each; listed (with what they read) in morphlearn.figures.registry.
+FIGURES = tuple(FIGURE_SPECS)
 
 
 def models(cfg: dict[str, Any]) -> list[str]:
@@ -217,24 +219,30 @@ def summary_markdown(summary: dict[str, Any]) -> str:
     return "\n".join(lines) + "\n"
 
 
+#: Figure options computed from the config rather than read from its ``figures`` section.
+DERIVED_FIGURE_OPTIONS: dict[str, Callable[[dict[str, Any]], Any]] = {
+    "morphology": lambda cfg: empirical_params(cfg).to_dict(),  # Fig. 1C: the empirical model's body
+    "trajectory_settings": lambda cfg: trajectory_settings(cfg),
+}
+
+
 def figure_options(cfg: dict[str, Any], fig: str) -> dict[str, Any]:
-    """Keyword arguments of ``figures.make_figure(fig, ...)`` from the config: only what that figure
-    uses, so that changing a figure parameter re-renders only the figures that depend on it."""
-    f = cfg["figures"]
+    """Notebook parameters of figure ``fig`` from the config (registry: what it reads and takes).
+
+    Only what that figure uses, so that changing a figure parameter re-renders only the figures
+    that depend on it: ``<model>_thresholds`` of the models it reads (empirical only when enabled,
+    with ``empirical_enabled``), then its options from DERIVED_FIGURE_OPTIONS or ``figures.<name>``.
+    """
+    spec = FIGURE_SPECS[fig]
     emp = "empirical" in models(cfg)
-    opts: dict[str, Any] = {"empirical_enabled": emp}
-    if fig == "fig1":  # the body drawn in panel C: the empirical model's (committed) morphology
-        opts["morphology"] = empirical_params(cfg).to_dict()
-        return opts
-    opts["theory_thresholds"] = thresholds(cfg, "theory").__dict__
-    if emp and fig in ("fig3", "fig6", "fig7"):
-        opts["empirical_thresholds"] = thresholds(cfg, "empirical").__dict__
-    elif fig not in ("fig3", "fig6", "fig7"):
-        opts["empirical_enabled"] = False  # figures 2, 4, 5 are theory only
-    if fig == "fig2":
-        opts |= {"design": f["fig2_design"], "envs": list(f["fig2_envs"])}
-    if fig in ("fig4", "fig5"):
-        opts |= {"settings": trajectory_settings(cfg), "near": f["near_distance"]}
+    opts: dict[str, Any] = {}
+    for m in spec.reads:
+        if m == "empirical":
+            opts["empirical_enabled"] = emp
+        if m != "empirical" or emp:
+            opts[f"{m}_thresholds"] = thresholds(cfg, m).__dict__
+    for name in spec.options:
+        opts[name] = DERIVED_FIGURE_OPTIONS[name](cfg) if name in DERIVED_FIGURE_OPTIONS else cfg["figures"][name]
     return opts
 
 

@@ -4,8 +4,11 @@ import os
 import sys
 from pathlib import Path
 
+import yaml
+
 from morphlearn import config as cfgmod
 from morphlearn import pipeline
+from morphlearn.figures import registry as figure_registry
 
 try:
     CFG = cfgmod.validate(config)
@@ -43,6 +46,7 @@ def shard_params(model):
 
 # Figures need the theory results; render_only re-renders them from stored results alone.
 RENDER_ONLY = CFG["render_only"]
+FIGURE_SPECS = figure_registry.FIGURES
 FIGURES = pipeline.FIGURES if CFG["figures"]["enabled"] and "theory" in MODELS else []
 # Once per start: the options read the body file, and both a figure's inputs and params use them.
 FIGURE_OPTIONS = {fig: pipeline.figure_options(CFG, fig) for fig in FIGURES}
@@ -58,12 +62,12 @@ ALL_TARGETS = FIGURE_TARGETS + (
 
 
 def figure_data(fig):
-    """Results a figure reads: none for Fig. 1 (its body file is in the options)."""
-    if fig == "fig1":
-        return []
-    models = ["theory"]
-    if FIGURE_OPTIONS[fig]["empirical_enabled"]:
-        models.append("empirical")
+    """Results a figure reads (registry), empirical only when that model is enabled."""
+    models = [
+        m
+        for m in FIGURE_SPECS[fig].reads
+        if m != "empirical" or FIGURE_OPTIONS[fig]["empirical_enabled"]
+    ]
     return [
         f"{R}/{m}/{name}" for m in models for name in ("metrics.csv", "merged.zarr")
     ]
@@ -78,3 +82,25 @@ if RENDER_ONLY and FIGURES:
     except ValueError as err:
         print(f"morphlearn: render_only: {err}", file=sys.stderr)
         sys.exit(2)
+
+
+def figure_modules(fig):
+    """Every package module the figure's notebook imports, directly or through other package
+    modules: editing any of them re-renders the figure (and no other code does)."""
+    return figure_registry.notebook_modules(figure_registry.notebook_path(fig), "src")
+
+
+def figure_parameters(fig):
+    """The notebook's parameters (papermill -y), as YAML that PyYAML reads back exactly."""
+    return lambda w, input, output: yaml.safe_dump(
+        {
+            "results_dir": str(Path(output.png).parents[1]),
+            "png": output.png,
+            "pdf": output.pdf,
+            "caption": output.caption,
+            "style": input.style,
+            **FIGURE_OPTIONS[fig],
+        },
+        default_flow_style=True,
+        width=10**6,
+    ).strip()

@@ -1,6 +1,7 @@
-# Figures (one papermill notebook each), the reproduction table, and what the report shows.
-# One rule per figure, so that a figure's caption file can be its report caption and editing a
-# notebook (an explicit input) re-renders only that figure.
+# Figures (one papermill notebook each, listed in morphlearn.figures.registry), the reproduction
+# table, and what the report shows. One rule per figure, so that a figure's caption file can be its
+# report caption and editing its notebook, the shared style or a package module it imports (all
+# inputs) re-renders only that figure.
 
 
 localrules:
@@ -14,7 +15,9 @@ for _fig in FIGURES:
         name:
             f"figure_{_fig}"
         input:
-            notebook=f"notebooks/{_fig}.ipynb",
+            notebook=figure_registry.notebook_path(_fig),
+            style=figure_registry.STYLE,
+            code=figure_modules(_fig),
             data=figure_data(_fig),
         output:
             png=report(
@@ -35,14 +38,11 @@ for _fig in FIGURES:
             "../../envs/figures.yaml"
         params:
             fig=_fig,
-            results=lambda w, output: Path(output.png).parents[1],  # = results_dir
             src=f"{workflow.basedir}/src",
-            options=json.dumps(FIGURE_OPTIONS[_fig], sort_keys=True),
+            parameters=figure_parameters(_fig),
         shell:
             "(export PYTHONPATH={params.src:q}${{PYTHONPATH:+:$PYTHONPATH}}; "
-            "papermill {input.notebook:q} {log.notebook:q} -p figure {params.fig} "
-            "-p results_dir {params.results:q} -p png {output.png:q} -p pdf {output.pdf:q} "
-            "-p caption {output.caption:q} -r options {params.options:q} && "
+            "papermill {input.notebook:q} {log.notebook:q} -y {params.parameters:q} && "
             "jupyter nbconvert --to html --log-level WARN --output-dir $(dirname {output.html:q}) "
             "--output {params.fig} {log.notebook:q}) > {log.text:q} 2>&1"
 
@@ -54,6 +54,8 @@ rule reproduction:
             for m in MODELS
             for n in ("metrics.csv", "merged.zarr")
         },
+        # like a figure's: the package modules the script imports, so a code edit re-runs it
+        code=figure_registry.notebook_modules("workflow/scripts/reproduction.py", "src"),
     output:
         csv=f"{R}/reproduction.csv",
         md=f"{R}/reproduction.md",

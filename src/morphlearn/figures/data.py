@@ -92,6 +92,17 @@ class ModelResults:
         hit = np.flatnonzero(np.all(np.isclose(c, [*l1, *l2], atol=1e-9), axis=-1))
         return int(hit[0]) if hit.size else None
 
+    def position(self, l1: Sequence[float], l2: Sequence[float], why: str = "this figure") -> int:
+        """Like :meth:`find`, but a design ``why`` needs and the dataset lacks is an error (a merged
+        dataset may hold only some designs): never an empty panel."""
+        pos = self.find(l1, l2)
+        if pos is None:
+            raise ValueError(
+                f"{self.model}: design {design_label(l1, l2)} is not in {self.paths.get('merged', 'the dataset')} "
+                f"({self.ds.sizes['design']} designs); {why} needs its outcomes"
+            )
+        return pos
+
     def row(self, l1: Sequence[float], l2: Sequence[float]) -> pd.Series | None:
         t = self.table
         sel = (np.isclose(t.l1x, l1[0]) & np.isclose(t.l1y, l1[1]) & np.isclose(t.l2x, l2[0])
@@ -138,6 +149,23 @@ def load_results(results_dir: str | Path, model: str, thresholds: dict[str, floa
     ds = store.open_merged(merged_path)  # verifies the coordinates; read_design the chunks
     return ModelResults(model, table, ds, thresholds_from(thresholds),
                         {"metrics": str(table_path), "merged": str(merged_path)})  # fmt: skip
+
+
+def require_results(results_dir: str | Path, model: str, thresholds: dict[str, float] | None = None
+                    ) -> ModelResults:  # fmt: skip
+    """A model's results that a figure cannot do without (FileNotFoundError naming the files)."""
+    res = load_results(results_dir, model, thresholds)
+    if res is None:
+        raise FileNotFoundError(f"no {model} results under {results_dir} ({model}/metrics.csv and "
+                                f"{model}/merged.zarr)")  # fmt: skip
+    return res
+
+
+def optional_results(results_dir: str | Path, model: str, enabled: bool,
+                     thresholds: dict[str, float] | None = None) -> ModelResults | None:  # fmt: skip
+    """A model's results when the config enables it (then they must exist), else None: the
+    figure draws that model's panels as "not in this run"."""
+    return require_results(results_dir, model, thresholds) if enabled else None
 
 
 # ---------------------------------------------------------------------------------------------

@@ -19,7 +19,7 @@ import pandas as pd
 
 from morphlearn import grid as gridmod
 from morphlearn.figures import data as fd
-from morphlearn.figures.make import resolution_note, science_summary
+from morphlearn.figures.caption import resolution_note, science_summary
 
 NOT_RUN = "not in this run"
 

@@ -1,0 +1,120 @@
+"""The figures: one notebook each (``notebooks/<name>.ipynb``), listed here with what they read.
+
+This is the one place the workflow learns about figures (workflow/rules/figures.smk makes one
+rule per entry). To add a figure: write ``notebooks/<name>.ipynb`` (copy one; keep its
+``parameters`` cell) and add one :class:`Figure` line below; if it takes a new option, add that
+key to the ``figures`` section of ``config_schema.yaml`` and name it in ``options``.
+
+A figure's rule re-runs when its notebook, the shared style file, its results or any package
+module its notebook imports (directly or through other package modules, see
+:func:`notebook_modules`) change, so no code edit can leave a stale figure.
+
+Light imports only: the Snakefile imports this module at parse time.
+"""
+
+from __future__ import annotations
+
+import ast
+import json
+from collections.abc import Iterable
+from dataclasses import dataclass
+from pathlib import Path
+
+PACKAGE = "morphlearn"
+
+
+@dataclass(frozen=True)
+class Figure:
+    """What a figure's notebook reads besides its own code."""
+
+    #: Models whose results (metrics.csv, merged.zarr) it reads; "empirical" only when that
+    #: model is enabled, and its notebook then gets ``empirical_enabled = True``.
+    reads: tuple[str, ...] = ("theory",)
+    #: Notebook parameters taken from the config (pipeline.figure_options): a key of the config's
+    #: ``figures`` section, or one of pipeline.DERIVED_FIGURE_OPTIONS.
+    options: tuple[str, ...] = ()
+
+
+FIGURES: dict[str, Figure] = {
+    "fig1": Figure(reads=(), options=("morphology",)),
+    "fig2": Figure(options=("fig2_design", "fig2_envs")),
+    "fig3": Figure(reads=("theory", "empirical")),
+    "fig4": Figure(options=("trajectory_settings", "near_distance")),
+    "fig5": Figure(options=("trajectory_settings", "near_distance")),
+    "fig6": Figure(reads=("theory", "empirical")),
+    "fig7": Figure(reads=("theory", "empirical")),
+}
+
+#: Every figure rule's input: the one matplotlib style all figures use.
+STYLE = "notebooks/style.mplstyle"
+
+
+def notebook_path(name: str) -> str:
+    return f"notebooks/{name}.ipynb"
+
+
+def code_of(path: str | Path) -> str:
+    """Python source of a notebook's code cells (IPython magics and shell lines dropped), or of a
+    ``.py`` file."""
+    p = Path(path)
+    if p.suffix != ".ipynb":
+        return p.read_text()
+    cells = json.loads(p.read_text())["cells"]
+    lines = []
+    for c in cells:
+        if c["cell_type"] != "code":
+            continue
+        src = "".join(c["source"]) if isinstance(c["source"], list) else c["source"]
+        lines += [ln for ln in src.splitlines() if not ln.lstrip().startswith(("%", "!"))]
+        lines.append("")
+    return "\n".join(lines)
+
+
+def _module_file(src: Path, module: str) -> Path | None:
+    base = src.joinpath(*module.split("."))
+    for p in (base.with_suffix(".py"), base / "__init__.py"):
+        if p.is_file():
+            return p
+    return None
+
+
+def _imported(code: str, current: str | None) -> Iterable[str]:
+    """Dotted names this code may import (for ``from a import b`` both ``a`` and ``a.b``); every
+    import, also those inside functions: a lazy import still changes what the figure draws."""
+    for node in ast.walk(ast.parse(code)):
+        if isinstance(node, ast.Import):
+            yield from (a.name for a in node.names)
+        elif isinstance(node, ast.ImportFrom):
+            mod = node.module or ""
+            if node.level and current:  # relative: from the current module's package
+                parent = current.split(".")[: -node.level]
+                mod = ".".join([*parent, mod] if mod else parent)
+            yield mod
+            yield from (f"{mod}.{a.name}" for a in node.names)
+
+
+def notebook_modules(path: str | Path, src: str | Path = "src") -> list[str]:
+    """The package's source files that ``path`` (a notebook or script) imports, directly or
+    through other package modules, with the ``__init__.py`` of every package on the way.
+
+    Paths are ``src``-prefixed as given (relative to the workflow root for rule inputs), sorted.
+    """
+    src = Path(src)
+    seen: dict[str, Path] = {}
+    todo = [(code_of(path), None)]
+    while todo:
+        code, current = todo.pop()
+        for name in _imported(code, current):
+            if name != PACKAGE and not name.startswith(PACKAGE + "."):
+                continue
+            parts = name.split(".")
+            for k in range(1, len(parts) + 1):  # importing a.b.c runs a/__init__, a/b/__init__
+                mod = ".".join(parts[:k])
+                if mod in seen:
+                    continue
+                f = _module_file(src, mod)
+                if f is None:
+                    continue  # a name imported from a module, not a module
+                seen[mod] = f
+                todo.append((f.read_text(), mod if f.name != "__init__.py" else mod + ".__init__"))
+    return sorted(str(p) for p in seen.values())
