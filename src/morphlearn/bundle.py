@@ -27,9 +27,9 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
-from morphlearn import __version__
+from morphlearn import __version__, metrics, provenance, store
 from morphlearn import grid as gridmod
-from morphlearn import metrics, provenance, store
+from morphlearn.figures.data import PAPER_BEST_DESIGN
 
 #: Files copied from the run's results folder, when present (paths relative to it).
 COPIED = (
@@ -44,8 +44,6 @@ COPIED = (
 MODEL_FILES = ("metrics.csv", "metrics.provenance.json")
 #: Per figure (the executed notebook's HTML is left out: it is large and re-rendered on demand).
 FIGURE_SUFFIXES = (".png", ".pdf", ".caption.md")
-#: The paper's best theory design; the figures and the reproduction table draw it.
-PAPER_BEST = ((-0.5, -0.25), (0.5, 0.25))
 MANIFEST = "bundle.json"
 
 
@@ -62,7 +60,12 @@ def drawn_designs(table: pd.DataFrame, n: int, top: int) -> np.ndarray:
     """
     g = gridmod.DesignGrid(n)
     present = set(table.design.astype(int))
-    want = {g.index_of(*gridmod.canonical_design()), g.index_of(*PAPER_BEST)}
+    want = set()
+    for design in (gridmod.canonical_design(), PAPER_BEST_DESIGN):
+        try:
+            want.add(g.index_of(*design))
+        except ValueError:  # not on this grid (a coarse test grid)
+            pass
     for by in ("M_L", "M_CF"):
         want |= set(metrics.rank_designs(table, by).design.head(top).astype(int))
     want |= {int(g.mirror(d)) for d in want}
