@@ -63,7 +63,7 @@ def render() -> str:
         "",
         "Generated from `src/morphlearn/config_schema.yaml` by `tools/config_docs.py`: do not edit by",
         "hand. `config.yaml` is the default (reduced) sweep; the presets in this folder override it",
-        "(`snakemake --configfile config/full.yaml`). Each preset writes to its own `results_dir`.",
+        "(`snakemake --configfile config/full.yaml`); `full.yaml` and `gpu.yaml` write to their own `results_dir`.",
         "",
         "| key | type | allowed | default | meaning |",
         "|---|---|---|---|---|",
