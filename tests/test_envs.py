@@ -88,7 +88,7 @@ def test_each_env_runs_its_rules(tmp_path: Path) -> None:
         python = build_env(env, tmp_path / "envs" / env)
         args = [str(python), "-m", "snakemake", *targets, "--cores", "2", "--configfile", *CONFIGS,
                 "--allowed-rules", *rules]  # fmt: skip
-        proc = subprocess.run(args, cwd=wd, capture_output=True, text=True, timeout=600,
+        proc = subprocess.run(args, cwd=wd, capture_output=True, text=True, timeout=900,
                               env=dict(os.environ, MORPHLEARN_GIT_COMMIT="test"))  # fmt: skip
         logs = "\n".join(p.read_text()[-1500:] for p in sorted((wd / "results/logs").rglob("*.log")))
         assert proc.returncode == 0, f"envs/{env}.yaml:\n{proc.stderr[-3000:]}\n{logs}"
