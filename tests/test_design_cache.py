@@ -22,13 +22,16 @@ MERGED = ["results/theory/merged.zarr", "results/empirical/merged.zarr"]
 
 
 def _computed(wd: Path) -> dict[str, int]:
-    """Designs each model's shard jobs computed (not reused), from the shard logs."""
+    """Designs each model's shard jobs computed (not reused), from the shard logs (then removed, so
+    that the next run's logs are counted alone)."""
     out = {}
     for model in ("theory", "empirical"):
         logs = sorted((wd / f"results/logs/{model}").glob("shard_*.log"))
         counts = [int(m) for p in logs for m in re.findall(r"to compute (\d+)", p.read_text())]
         assert len(counts) == len(logs), f"{model}: a shard log without its design count"
         out[model] = sum(counts)
+        for p in logs:
+            p.unlink()
     return out
 
 
