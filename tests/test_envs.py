@@ -1,9 +1,12 @@
-"""envs/*.yaml (for --sdm conda users) pin exactly the versions of requirements.lock."""
+"""envs/*.yaml (for --sdm conda users): pinned as requirements.lock, and each holds what its rules import."""
 
+import os
 import re
+import subprocess
 import sys
 from pathlib import Path
 
+import pytest
 import yaml
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -28,3 +31,95 @@ def test_every_rule_names_an_existing_env() -> None:
     for smk in (ROOT / "workflow/rules").glob("*.smk"):
         for ref in re.findall(r'conda:\s*\n\s*"([^"]+)"', smk.read_text()):
             assert (smk.parent / ref).resolve().is_file(), f"{smk.name}: {ref}"
+
+
+# --- Each environment runs its own rules -----------------------------------------------------------
+# conda channels cannot be reached in CI, so each env file's pip package set is built into its own
+# virtual environment with uv (from uv's cache: seconds) and Snakemake runs, with that environment's
+# Python, only the rules that name that env file (--allowed-rules). Snakemake itself is added to
+# each environment: under --sdm conda a rule's Python imports the host's Snakemake the same way (the
+# script preamble appends its search path), so what is checked is everything else a rule imports.
+# The runs also parse the Snakefile in each environment.
+
+# env -> (rules that name envs/<env>.yaml, targets to make with only those rules). In workflow
+# order: each run finds the previous runs' outputs. test_every_conda_rule_is_run checks coverage.
+SMOKE_STEPS = {
+    "theory": (["theory_shard"], [f"results/theory/shards/shard_{i}.nc" for i in range(3)]),
+    "empirical": (["empirical_shard", "optimise_morphology"],
+                  ["results/empirical/shards/shard_0.nc", "results/morphology/pareto.csv"]),
+    "analysis": (["merge", "metrics", "summary"], ["results/summary.md"]),
+    # Two of the seven notebooks (same imports; fig1 alone loads pybullet for its render, fig5 the
+    # scipy reference trajectories) and the reproduction table: the other five cost CI a minute.
+    "figures": ([*(f"figure_fig{i}" for i in range(1, 8)), "reproduction"],
+                ["results/figures/fig1.png", "results/figures/fig5.png", "results/reproduction.md"]),
+}  # fmt: skip
+CONFIGS = ("config/smoke.yaml", "tiny_optimise.yaml")
+
+
+def build_env(name: str, dest: Path) -> Path:
+    env = yaml.safe_load((ROOT / "envs" / f"{name}.yaml").read_text())
+    pip = next(d["pip"] for d in env["dependencies"] if isinstance(d, dict))
+    pins = make_envs.lock()
+    uv = Path(sys.executable).with_name("uv")
+    subprocess.run([str(uv), "venv", "-q", "--python", sys.executable, str(dest)], check=True)
+    subprocess.run([str(uv), "pip", "install", "-q", "--python", str(dest / "bin/python"),
+                    "-c", str(ROOT / "requirements.lock"), *pip, f"snakemake=={pins['snakemake']}"],
+                   check=True)  # fmt: skip
+    return dest / "bin/python"
+
+
+def test_every_conda_rule_is_run() -> None:
+    for smk in (ROOT / "workflow/rules").glob("*.smk"):
+        text = smk.read_text()
+        for name, env in re.findall(r'rule (\w+):\n(?:.*\n)*?\s+conda:\s*\n\s*"\.\./\.\./envs/(\w+)\.yaml"', text):
+            assert name in SMOKE_STEPS[env][0], f"{smk.name}: rule {name} (envs/{env}.yaml) is not run"
+    # the figure rules are made in a loop (rule name f"figure_{_fig}"): all name envs/figures.yaml
+    assert '"../../envs/figures.yaml"' in (ROOT / "workflow/rules/figures.smk").read_text()
+
+
+@pytest.mark.slow
+def test_each_env_runs_its_rules(tmp_path: Path) -> None:
+    from conftest import copy_workflow
+
+    wd = copy_workflow(tmp_path / "wd")
+    # optimise_morphology with one NSGA-II population (20 evaluations: seconds, not minutes)
+    (wd / "tiny_optimise.yaml").write_text("empirical:\n  optimise:\n    evaluations: 20\n")
+    for env, (rules, targets) in SMOKE_STEPS.items():
+        python = build_env(env, tmp_path / "envs" / env)
+        args = [str(python), "-m", "snakemake", *targets, "--cores", "2", "--configfile", *CONFIGS,
+                "--allowed-rules", *rules]  # fmt: skip
+        proc = subprocess.run(args, cwd=wd, capture_output=True, text=True, timeout=900,
+                              env=dict(os.environ, MORPHLEARN_GIT_COMMIT="test"))  # fmt: skip
+        logs = "\n".join(p.read_text()[-1500:] for p in sorted((wd / "results/logs").rglob("*.log")))
+        assert proc.returncode == 0, f"envs/{env}.yaml:\n{proc.stderr[-3000:]}\n{logs}"
+    # Together the environments made the workflow: the main environment has only the figures
+    # left out above to do (nothing made in an environment is out of date).
+    from conftest import job_stats, snakemake
+
+    proc = snakemake(wd, "-n", "--cores", "1", "--configfile", *CONFIGS)
+    left = {f"figure_fig{i}": 1 for i in (2, 3, 4, 6, 7)} | {"all": 1}
+    assert job_stats(proc.stdout + proc.stderr) == left, proc.stdout[-2000:]
+
+
+PARSE_AND_PLAN = """
+import json, sys
+from snakemake.cli import main
+sys.argv = ["snakemake", "-n", "--cores", "1", "--configfile", "config/smoke.yaml"]
+try:
+    main()
+except SystemExit as e:
+    assert not e.code, e.code
+print(json.dumps(sorted(m for m in sys.modules if m.split(".")[0] in ("pybullet", "pymoo"))))
+"""
+
+
+def test_parsing_and_planning_import_no_pybullet_or_pymoo(tmp_path: Path) -> None:
+    """The Snakefile's parse and a dry run (every rule's params evaluated, the empirical ones too)
+    load neither: they run in the host environment and import morphlearn.empirical.params."""
+    from conftest import copy_workflow
+
+    wd = copy_workflow(tmp_path / "wd")
+    proc = subprocess.run([sys.executable, "-c", PARSE_AND_PLAN], cwd=wd, capture_output=True, text=True,
+                          timeout=300)  # fmt: skip
+    assert proc.returncode == 0, proc.stderr[-3000:]
+    assert proc.stdout.strip().splitlines()[-1] == "[]", proc.stdout[-2000:]

@@ -10,10 +10,15 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
 CORE = ["numpy", "scipy", "numba", "xarray", "zarr", "pandas", "pyyaml", "jsonschema", "tqdm"]
+# What each environment's rules import (tests/test_envs.py runs the rules in a virtual environment
+# built from exactly these packages). CORE: the package's import-time needs (config, grid, store,
+# pipeline, theory); pybullet and pymoo load only inside the empirical rules (lazy imports).
 ENVS = {
     "theory": [*CORE, "numba-cuda"],  # numba-cuda: the GPU backend (theory.backend)
-    "analysis": CORE,
-    "empirical": [*CORE, "pybullet", "pymoo"],
+    "analysis": CORE,  # merge, metrics, summary
+    # empirical_shard; optimise_morphology (pymoo's NSGA-II, matplotlib for its Pareto plot)
+    "empirical": [*CORE, "pybullet", "pymoo", "matplotlib"],
+    # the figure notebooks (papermill + nbconvert + a kernel), Fig. 1C's pybullet render
     "figures": [*CORE, "pybullet", "matplotlib", "seaborn", "papermill", "nbconvert", "ipykernel"],
 }
 

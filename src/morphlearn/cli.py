@@ -133,8 +133,20 @@ def cmd_verify(a: argparse.Namespace) -> int:
     return 0 if rep.ok else 1
 
 
+class _Version(argparse.Action):
+    """``--version``: package version and git commit (looked up only when asked: git is a subprocess)."""
+
+    def __call__(self, parser: argparse.ArgumentParser, *_: object) -> None:
+        from morphlearn import __version__
+        from morphlearn.provenance import git_commit
+
+        print(f"morphlearn {__version__} (commit {git_commit()})")
+        parser.exit()
+
+
 def build_parser() -> argparse.ArgumentParser:
     p = argparse.ArgumentParser(prog="morphlearn", description=__doc__)
+    p.add_argument("--version", action=_Version, nargs=0, help="print version and git commit, and exit")
     sub = p.add_subparsers(dest="cmd", required=True)
     d = sub.add_parser("design", help="evaluate one design over the M x M weight grid")
     d.add_argument("--model", choices=["theory", "empirical"], default="theory")

@@ -11,9 +11,10 @@ import numpy as np
 import pandas as pd
 
 from morphlearn import config as cfgmod
+from morphlearn import design_cache, metrics, provenance, store
 from morphlearn import grid as gridmod
-from morphlearn import metrics, provenance, store
 from morphlearn.figures.registry import FIGURES as FIGURE_SPECS
+from morphlearn.results import DesignResult
 from morphlearn.theory import TheoryParams, evaluate
 
 MODELS = ("theory", "empirical")
@@ -65,30 +66,60 @@ def mirror_derived(cfg: dict[str, Any], model: str) -> bool:
     return model == "theory" and cfg["sweep"]["mirror_symmetry"]
 
 
-def evaluate_designs(cfg: dict[str, Any], model: str, designs: np.ndarray) -> list:
+def evaluate_designs(
+    cfg: dict[str, Any], model: str, designs: np.ndarray,
+    done: Callable[[int, DesignResult], None] | None = None,
+) -> list[DesignResult]:
+    """Results of ``designs``, in order; ``done(i, result)`` is called as each one finishes (the
+    theory kernel finishes its designs together, the empirical model one by one)."""
     g = gridmod.DesignGrid(cfg["grid"]["positions_per_axis"])
     w = weights(cfg, model)
     if model == "theory":
-        return evaluate(g.coords(designs), w, TheoryParams.from_config(cfg["theory"]), progress=True)
+        out = evaluate(g.coords(designs), w, TheoryParams.from_config(cfg["theory"]), progress=True)
+        for i, r in enumerate(out):
+            if done:
+                done(i, r)
+        return out
     from tqdm import tqdm
 
     from morphlearn.empirical import evaluate_design
 
     params = empirical_params(cfg)
     out = []
-    for c in tqdm(g.coords(designs), unit="design", mininterval=1.0):
+    for i, c in enumerate(tqdm(g.coords(designs), unit="design", mininterval=1.0)):
         out.append(evaluate_design((c[0], c[1]), (c[2], c[3]), w, params))
+        if done:
+            done(i, out[-1])
     return out
 
 
 def run_shard(cfg: dict[str, Any], model: str, shard: int, out: str | Path) -> None:
+    """Evaluate one shard; with ``design_cache`` (default) reuse the designs already finished under
+    the same science (design_cache) and save each new one as soon as it is done."""
     g = gridmod.DesignGrid(cfg["grid"]["positions_per_axis"])
     designs = shard_designs(cfg, model)[shard]
     sci = science(cfg, model)
-    results = evaluate_designs(cfg, model, designs)
+    w = weights(cfg, model)
     prov = provenance.record(sci) | provenance.backend(cfg, model)
-    store.write_shard(out, model=model, grid=g, weights=weights(cfg, model), designs=designs,
-                      results=results, science=sci, provenance=prov)  # fmt: skip
+    results: dict[int, DesignResult] = {}
+    folder = design_cache.cache_dir(cfg["results_dir"], model, sci) if cfg.get("design_cache", True) else None
+    if folder:
+        results = design_cache.load(folder, designs, model=model, science=sci, m=len(w))
+    todo = np.array([d for d in designs if int(d) not in results], dtype=np.int64)
+    print(f"shard {shard}: {len(designs)} designs, reused {len(results)}, to compute {len(todo)}"
+          + (f" (design cache {folder})" if folder else ""), flush=True)  # fmt: skip
+
+    def finished(i: int, r: DesignResult) -> None:
+        results[int(todo[i])] = r
+        if folder:
+            design_cache.save(folder, int(todo[i]), r, model=model, grid=g, weights=w, science=sci,
+                              provenance=prov)  # fmt: skip
+        print(f"shard {shard}: design {int(todo[i])} computed ({i + 1}/{len(todo)})", flush=True)
+
+    if len(todo):
+        evaluate_designs(cfg, model, todo, done=finished)
+    store.write_shard(out, model=model, grid=g, weights=w, designs=designs,
+                      results=[results[int(d)] for d in designs], science=sci, provenance=prov)  # fmt: skip
 
 
 def run_merge(cfg: dict[str, Any], model: str, shards: list[str], out: str | Path) -> None:

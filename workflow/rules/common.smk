@@ -7,7 +7,7 @@ from pathlib import Path
 import yaml
 
 from morphlearn import config as cfgmod
-from morphlearn import pipeline
+from morphlearn import pipeline, results_check
 from morphlearn.figures import registry as figure_registry
 
 try:
@@ -30,6 +30,25 @@ os.environ["PATH"] = (
 R = CFG["results_dir"]
 MODELS = pipeline.models(CFG)
 SHARDS = {m: pipeline.shard_designs(CFG, m) for m in MODELS}
+
+
+# Results this config did not make that Snakemake has no record of (copied in, or .snakemake
+# metadata cleaned) would count as done until the merge refuses them: stop now. Main process only:
+# cluster jobs re-parse this file and must not re-read the shards.
+if not CFG["render_only"] and workflow.is_main_process:
+    for _m in MODELS:
+        _stale = results_check.unrecorded_stale(
+            R, _m, pipeline.science(CFG, _m), SHARDS[_m]
+        )
+        if _stale:
+            print(
+                f"morphlearn: {_stale} was made by another science config or shard count and "
+                f"Snakemake has no record of it (.snakemake metadata), so it would count as done; "
+                f"allowed: this config's own results_dir, or delete {R}/{_m}/shards and "
+                f"{R}/{_m}/merged.zarr (finished designs in {R}/{_m}/designs are reused)",
+                file=sys.stderr,
+            )
+            sys.exit(2)
 
 
 def shard_ids(model):

@@ -16,6 +16,9 @@ rule theory_shard:
     resources:
         runtime=60,
         mem_mb=2000,
+        # theory.backend cuda: one GPU per shard job (the SLURM plugin submits --gpus=1; add
+        # gpu_model or a GPU partition with --set-resources, docs/cluster.md). auto asks for none.
+        gpu=1 if CFG["theory"]["backend"] == "cuda" else 0,
     params:
         key=shard_params("theory"),
     script:

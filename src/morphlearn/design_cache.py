@@ -1,0 +1,59 @@
+"""Per-design cache: finished designs survive re-sharding and killed shard jobs.
+
+Each shard job writes every design it finishes as a one-design file in the shard schema
+(:func:`store.write_shard`) under ``{results_dir}/{model}/designs/{science_sha256[:16]}/``. Snakemake
+does not own these files, so they outlive a shard's rerun: a shard job first reuses every design
+found there whose science digest and data checksum check out (:func:`store.verify_shard`), computes
+the rest, and assembles its shard file from both. Changing the shard count then recomputes
+nothing, and a killed empirical shard (hours) resumes from its last finished design.
+
+Disk: the cache holds the same arrays as the shards (theory at paper resolution ~1.8 GB more);
+``design_cache: false`` in the config turns it off.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from morphlearn import config as cfgmod
+from morphlearn import store
+from morphlearn.grid import DesignGrid
+from morphlearn.results import DesignResult
+
+
+def cache_dir(results_dir: str | Path, model: str, science: dict[str, Any]) -> Path:
+    """Folder of one science config's designs (the digest prefix keeps configs apart)."""
+    return Path(results_dir) / model / "designs" / cfgmod.digest(science)[:16]
+
+
+def design_path(folder: Path, design: int) -> Path:
+    return folder / f"design_{int(design)}.nc"
+
+
+def load(folder: Path, designs: np.ndarray, *, model: str, science: dict[str, Any], m: int) -> dict[int, DesignResult]:
+    """The designs of ``designs`` already in ``folder`` that verify; damaged or foreign ones are
+    reported and left to be recomputed (their file is overwritten then)."""
+    found: dict[int, DesignResult] = {}
+    for d in designs:
+        p = design_path(folder, d)
+        if not p.is_file():
+            continue
+        try:
+            sh = store.read_shard(p)
+            store.verify_shard(sh, model=model, science=science, designs=np.array([int(d)]), m=m)
+        except store.ShardError as e:
+            print(f"design cache: not reused: {e}", flush=True)
+            continue
+        found[int(d)] = DesignResult(*(sh.arrays[k][0] for k in store.VARS))
+    return found
+
+
+def save(folder: Path, design: int, result: DesignResult, *, model: str, grid: DesignGrid,
+         weights: np.ndarray, science: dict[str, Any], provenance: dict[str, Any]) -> None:  # fmt: skip
+    """Write one finished design (atomically, in the shard schema)."""
+    store.write_shard(design_path(folder, design), model=model, grid=grid, weights=weights,
+                      designs=np.array([int(design)]), results=[result], science=science,
+                      provenance=provenance)  # fmt: skip
