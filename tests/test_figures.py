@@ -3,18 +3,19 @@
 from __future__ import annotations
 
 import json
+import tempfile
 from pathlib import Path
 
 import matplotlib.pyplot as plt
 import numpy as np
 import pandas as pd
 import pytest
-import xarray as xr
 import yaml
 
-from morphlearn import config, grid, pipeline
+from morphlearn import config, grid, pipeline, store
 from morphlearn.figures import caption, data, output, registry
 from morphlearn.figures.draw import distribution, matrix, panel, sketch
+from morphlearn.results import DesignResult
 
 ROOT = Path(__file__).parents[1]
 W = np.array([-1.0, 0.0, 1.0])
@@ -23,24 +24,31 @@ DESIGNS = [((0.5, 0.5), (0.5, -0.5)), ((-0.5, -0.25), (0.5, 0.25))]
 
 def synthetic(designs=DESIGNS, generalists=(2, 0)) -> data.ModelResults:
     """Two designs on a 3 x 3 weight grid; design k solves all four environments with its first
-    ``generalists[k]`` controllers (grid order) and environment 0 only with the rest."""
+    ``generalists[k]`` controllers (grid order) and environment 0 only with the rest. Stored the
+    way the workflow stores results (a shard merged into a Zarr store with its digests), since the
+    figures read only verified data."""
     n = len(designs)
-    ft = np.full((n, 4, 3, 3), np.inf)
+    ft = np.full((n, 4, 3, 3), np.inf, dtype=np.float32)
     ft[:, 0] = 1.0
     for k, g in enumerate(generalists):
         flat = ft[k].reshape(4, 9)
         flat[:, :g] = 1.0
+    g5 = grid.DesignGrid(5)
+    idx = np.array([g5.index_of(*d) for d in designs], dtype=np.int64)
+    order = np.argsort(idx)
+    results = [DesignResult(ft[k], np.zeros((4, 3, 3)), np.zeros((4, 3, 3))) for k in order]
+    tmp = Path(tempfile.mkdtemp(prefix="synthetic-"))
+    sci = {"model": "theory", "grid": {"positions_per_axis": 5, "weights": 3}}
+    store.write_shard(tmp / "s.nc", model="theory", grid=g5, weights=W, designs=idx[order], results=results,
+                      science=sci, provenance={})  # fmt: skip
+    store.merge_shards([tmp / "s.nc"], tmp / "merged.zarr", model="theory", grid=g5, weights=W,
+                       shard_designs=[idx[order]], science=sci, mirror=False, provenance={})  # fmt: skip
     c = np.array([[*a, *b] for a, b in designs])
-    ds = xr.Dataset(
-        {"first_time": (("design", "env", "w1", "w2"), ft),
-         "min_dist": (("design", "env", "w1", "w2"), np.zeros_like(ft))},
-        coords={"design": np.arange(n), "w1": W, "w2": W,
-                **{k: ("design", c[:, i]) for i, k in enumerate(("l1x", "l1y", "l2x", "l2y"))}},
-    )  # fmt: skip
-    table = pd.DataFrame({"design": np.arange(n), "l1x": c[:, 0], "l1y": c[:, 1], "l2x": c[:, 2], "l2y": c[:, 3],
+    table = pd.DataFrame({"design": idx, "l1x": c[:, 0], "l1y": c[:, 1], "l2x": c[:, 2], "l2y": c[:, 3],
                           "generalists": list(generalists), "M_L": [g / 9 for g in generalists],
                           "M_CF": [g / 9 for g in generalists]})  # fmt: skip
-    return data.ModelResults("theory", table, ds, None, {"metrics": "m.csv", "merged": "merged.zarr"})
+    return data.ModelResults("theory", table, store.open_merged(tmp / "merged.zarr"), None,
+                             {"metrics": "m.csv", "merged": str(tmp / "merged.zarr")})  # fmt: skip
 
 
 # ---------------------------------------------------------------------------------------------- data
@@ -55,9 +63,11 @@ def test_overlap_and_best_of_synthetic_results() -> None:
 
 def test_a_design_missing_from_the_dataset_is_an_error_naming_it() -> None:
     res = synthetic()
-    res = data.ModelResults(res.model, res.table, res.ds.isel(design=[1]), None, res.paths)  # dataset: a subset
+    res = data.ModelResults(res.model, res.table, res.ds.sel(design=[int(res.table.design[1])]), None,
+                           res.paths)  # a dataset holding only the second design
     assert res.find(*DESIGNS[0]) is None
-    with pytest.raises(ValueError, match=r"l1 = \(0.5, 0.5\), l2 = \(0.5, -0.5\) is not in merged.zarr .*Fig. 9"):
+    missing = r"l1 = \(0.5, 0.5\), l2 = \(0.5, -0.5\) is not in \S*merged.zarr \(1 designs\); Fig. 9"
+    with pytest.raises(ValueError, match=missing):
         res.position(*DESIGNS[0], "Fig. 9")
     assert res.position(*DESIGNS[1]) == 0
 

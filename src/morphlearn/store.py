@@ -53,8 +53,13 @@ COORDS = ("design", "env", "w1", "w2", "l1x", "l1y", "l2x", "l2y")
 DIGEST_OF = "sha256 of the C-order bytes of each design's decoded (env, w1, w2) chunk, per variable"
 
 
+def _bytes(a: np.ndarray) -> memoryview:
+    """The C-order bytes of an array without copying them (``tobytes`` copies: +50 % hash time)."""
+    return memoryview(np.ascontiguousarray(a)).cast("B")
+
+
 def chunk_digest(a: np.ndarray) -> str:
-    return hashlib.sha256(np.ascontiguousarray(a).tobytes()).hexdigest()
+    return hashlib.sha256(_bytes(a)).hexdigest()
 
 
 def overall_digest(chunks: dict[str, list[str]], coords: dict[str, str]) -> str:
@@ -67,7 +72,7 @@ def data_digest(arrays: dict[str, np.ndarray]) -> str:
     for k in VARS:
         a = np.ascontiguousarray(arrays[k])
         h.update(k.encode() + str(a.dtype).encode() + str(a.shape).encode())
-        h.update(a.tobytes())
+        h.update(_bytes(a))
     return h.hexdigest()
 
 
@@ -289,6 +294,9 @@ def _write_store(
             fill_value=FILL[k],
             dimension_names=DIMS,
             attributes={"coordinates": "l1x l1y l2x l2y"},
+            # Every chunk on disk, also all-fill ones (zarr skips those by default): a missing chunk
+            # file then always means damage, and the start check can test existence cheaply.
+            config={"write_empty_chunks": True},
         )
         for k in VARS
     }
@@ -355,7 +363,7 @@ def open_merged(path: str | Path) -> xr.Dataset:
             warnings.filterwarnings("ignore", message=".*snakemake_timestamp.*")
             ds = xr.open_zarr(str(path), consolidated=False, mask_and_scale=False, chunks=None)
     except Exception as e:  # zarr/xarray raise many kinds
-        raise IntegrityError(f"{path}: not a readable Zarr store ({type(e).__name__})") from None
+        raise IntegrityError(f"{path}: not a readable Zarr dataset ({type(e).__name__})") from None
     integ = ds.attrs.get("integrity")
     if not isinstance(integ, dict) or "chunks" not in integ:
         raise IntegrityError(f"{path}: no digests (merged before they were recorded): merge it again")

@@ -19,7 +19,7 @@ rule bundle:
     benchmark:
         f"{R}/benchmarks/bundle.tsv"
     conda:
-        "../../envs/analysis.yaml"
+        "../../envs/figures.yaml"
     params:
         results=R,
         top=CFG["analysis"]["top"],

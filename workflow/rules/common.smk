@@ -34,8 +34,9 @@ SHARDS = {m: pipeline.shard_designs(CFG, m) for m in MODELS}
 
 # Results this config did not make that Snakemake has no record of (copied in, or .snakemake
 # metadata cleaned) would count as done until the merge refuses them: stop now. Main process only:
-# cluster jobs re-parse this file and must not re-read the shards.
-if not CFG["render_only"] and workflow.is_main_process:
+# cluster jobs re-parse this file and must not re-read the shards. Not for `--unlock`, which only
+# clears a lock (Snakemake gives the Snakefile no other way to tell that mode than its arguments).
+if not CFG["render_only"] and workflow.is_main_process and "--unlock" not in sys.argv:
     for _m in MODELS:
         _stale = results_check.unrecorded_stale(
             R, _m, pipeline.science(CFG, _m), SHARDS[_m]

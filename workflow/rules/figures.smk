@@ -40,6 +40,9 @@ for _fig in FIGURES:
             fig=_fig,
             src=f"{workflow.basedir}/src",
             parameters=figure_parameters(_fig),
+            # The rerun trigger: Snakemake does not compare params that are functions of input or
+            # output (as `parameters` is), so the figure's options also go in as plain text.
+            options=json.dumps(FIGURE_OPTIONS[_fig], sort_keys=True),
         shell:
             "(export PYTHONPATH={params.src:q}${{PYTHONPATH:+:$PYTHONPATH}}; "
             "papermill {input.notebook:q} {log.notebook:q} -y {params.parameters:q} && "

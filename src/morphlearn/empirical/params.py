@@ -106,10 +106,24 @@ def _check(name: str, value: Any) -> None:
 
 
 def load_params(path: str | Path) -> EmpiricalParams:
-    """Read a YAML mapping of parameter names (e.g. ``config/empirical_morphology.yaml``)."""
+    """Read a YAML mapping of parameter names (e.g. ``config/empirical_morphology.yaml``).
+
+    Every way the file can be bad (unreadable, malformed YAML, not a mapping, a bad value) raises
+    ValueError with one line saying what, for the config check and the CLI to prefix.
+    """
     import yaml
 
-    data = yaml.safe_load(Path(path).read_text())
+    try:
+        data = yaml.safe_load(Path(path).read_text())
+    except OSError as e:
+        raise ValueError(f"cannot read ({e.strerror})") from None
+    except yaml.YAMLError as e:
+        mark = getattr(e, "problem_mark", None)
+        raise ValueError("malformed YAML" + (f" at line {mark.line + 1}, column {mark.column + 1}"
+                                             if mark else "")) from None  # fmt: skip
     if not isinstance(data, dict):
-        raise ValueError(f"{path}: expected a mapping of empirical parameters")
-    return EmpiricalParams.from_mapping(data)
+        raise ValueError("expected a mapping of empirical parameters")
+    try:
+        return EmpiricalParams.from_mapping(data)
+    except (ValueError, TypeError) as e:
+        raise ValueError(str(e).splitlines()[0]) from None
