@@ -25,6 +25,10 @@ if not RENDER_ONLY:
     include: "workflow/rules/empirical.smk"
     include: "workflow/rules/analysis.smk"
 
+    if CFG["learners"]["enabled"]:
+
+        include: "workflow/rules/learners.smk"
+
     if CFG["bundle_dir"]:
 
         include: "workflow/rules/bundle.smk"

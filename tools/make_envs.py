@@ -16,6 +16,7 @@ CORE = ["numpy", "scipy", "numba", "xarray", "zarr", "pandas", "pyyaml", "jsonsc
 ENVS = {
     "theory": [*CORE, "numba-cuda"],  # numba-cuda: the GPU backend (theory.backend)
     "analysis": CORE,  # merge, metrics, summary
+    "learners": [*CORE, "cma"],  # learners_shard, learners_analysis (CMA-ES of the cma package)
     # empirical_shard; optimise_morphology (pymoo's NSGA-II, matplotlib for its Pareto plot)
     "empirical": [*CORE, "pybullet", "pymoo", "matplotlib"],
     # the figure notebooks (papermill + nbconvert + a kernel), Fig. 1C's pybullet render

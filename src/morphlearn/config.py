@@ -6,6 +6,7 @@ import copy
 import hashlib
 import json
 import math
+from dataclasses import asdict, dataclass
 from importlib import resources
 from pathlib import Path
 from typing import Any
@@ -147,6 +148,12 @@ def _check_cross(cfg: dict[str, Any]) -> None:
     emp = cfg.get("empirical")
     if emp and emp.get("enabled"):
         _check_empirical(cfg, g)
+    lr = cfg["learners"]
+    if lr["enabled"]:
+        n_run = min(len(g.representatives()), lr["max_designs"] or g.size)
+        if lr["shards"] > n_run:
+            raise ConfigError(f"learners.shards = {lr['shards']} exceeds the {n_run} designs the learners "
+                              f"run; allowed: 1..{n_run}")  # fmt: skip
     th = cfg["theory"]
     _check_analysis(cfg["analysis"], th)
     if (emp and emp.get("enabled")) or cfg["figures"]["enabled"]:
@@ -262,3 +269,40 @@ def theory_science(cfg: dict[str, Any]) -> dict[str, Any]:
         "theory": {k: th[k] for k in keys},
         "mirror_symmetry": cfg["sweep"]["mirror_symmetry"],
     }
+
+
+@dataclass(frozen=True)
+class LearnerSettings:
+    """The ``learners`` section (config_schema.yaml), typed: real learners on the theory model."""
+
+    enabled: bool
+    learners: tuple[str, ...]
+    protocols: tuple[str, ...]
+    seeds: int
+    seed: int
+    budget: int
+    cycles: int
+    per_phase: int
+    sigma0: float
+    max_designs: int | None
+    shards: int
+    threads: int
+    chunk: int
+    bootstrap: int
+
+    @classmethod
+    def from_config(cls, cfg: dict[str, Any]) -> LearnerSettings:
+        s = cfg["learners"]
+        return cls(**{k: tuple(s[k]) if isinstance(s[k], list) else s[k] for k in cls.__dataclass_fields__})
+
+    def science(self) -> dict[str, Any]:
+        """What determines a design's learner numbers (not sharding, threads, batching, bootstrap)."""
+        keep = ("learners", "protocols", "seeds", "seed", "budget", "cycles", "per_phase", "sigma0")
+        return {k: list(v) if isinstance(v, tuple) else v for k, v in asdict(self).items() if k in keep}
+
+
+def learner_science(cfg: dict[str, Any]) -> dict[str, Any]:
+    """The config subset that determines the learner stage's per-design numbers."""
+    th = theory_science(cfg)
+    return {"model": "learners", "theory": th["theory"], "grid": {"positions_per_axis": cfg["grid"]["positions_per_axis"]},
+            "learners": LearnerSettings.from_config(cfg).science()}  # fmt: skip

@@ -19,7 +19,13 @@ from morphlearn.theory import TheoryParams, evaluate
 
 MODELS = ("theory", "empirical")
 #: The figures, one notebook and one rule each; listed (with what they read) in morphlearn.figures.registry.
-FIGURES = tuple(FIGURE_SPECS)
+#: These are the paper's, drawn by every run; ``figures(cfg)`` adds those of enabled extra stages.
+FIGURES = tuple(f for f, spec in FIGURE_SPECS.items() if spec.needs is None)
+
+
+def figures(cfg: dict[str, Any]) -> list[str]:
+    """The figures this config draws: the paper's and those whose ``needs`` section is enabled."""
+    return [f for f, s in FIGURE_SPECS.items() if s.needs is None or cfg.get(s.needs, {}).get("enabled")]
 
 
 def models(cfg: dict[str, Any]) -> list[str]:

@@ -8,6 +8,7 @@ import yaml
 
 from morphlearn import config as cfgmod
 from morphlearn import pipeline, results_check
+from morphlearn.learners import experiment as learner_experiment
 from morphlearn.figures import registry as figure_registry
 
 try:
@@ -30,6 +31,9 @@ os.environ["PATH"] = (
 R = CFG["results_dir"]
 MODELS = pipeline.models(CFG)
 SHARDS = {m: pipeline.shard_designs(CFG, m) for m in MODELS}
+LEARNER_SHARDS = (
+    learner_experiment.shards(CFG) if CFG["learners"]["enabled"] else []
+)
 
 
 # Results this config did not make that Snakemake has no record of (copied in, or .snakemake
@@ -67,7 +71,9 @@ def shard_params(model):
 # Figures need the theory results; render_only re-renders them from stored results alone.
 RENDER_ONLY = CFG["render_only"]
 FIGURE_SPECS = figure_registry.FIGURES
-FIGURES = pipeline.FIGURES if CFG["figures"]["enabled"] and "theory" in MODELS else []
+FIGURES = (
+    pipeline.figures(CFG) if CFG["figures"]["enabled"] and "theory" in MODELS else []
+)
 # Once per start: the options read the body file, and both a figure's inputs and params use them.
 FIGURE_OPTIONS = {fig: pipeline.figure_options(CFG, fig) for fig in FIGURES}
 FIGURE_TARGETS = [
@@ -77,7 +83,11 @@ FIGURE_TARGETS = [
 ALL_TARGETS = FIGURE_TARGETS + (
     []
     if RENDER_ONLY
-    else [*(f"{R}/{m}/metrics.csv" for m in MODELS), f"{R}/summary.md"]
+    else [
+        *(f"{R}/{m}/metrics.csv" for m in MODELS),
+        f"{R}/summary.md",
+        *([f"{R}/learners/summary.md"] if CFG["learners"]["enabled"] else []),
+    ]
 )
 
 
@@ -90,7 +100,7 @@ def figure_data(fig):
     ]
     return [
         f"{R}/{m}/{name}" for m in models for name in ("metrics.csv", "merged.zarr")
-    ]
+    ] + [f"{R}/{f}" for f in FIGURE_SPECS[fig].files]
 
 
 # render_only: refuse to start, by name, when a stored result is missing or fails its digests.

@@ -33,6 +33,10 @@ class Figure:
     #: Notebook parameters taken from the config (pipeline.figure_options): a key of the config's
     #: ``figures`` section, or one of pipeline.DERIVED_FIGURE_OPTIONS.
     options: tuple[str, ...] = ()
+    #: A config section whose ``enabled`` the figure needs (drawn only then), or None (always).
+    needs: str | None = None
+    #: Further results it reads, relative to results_dir.
+    files: tuple[str, ...] = ()
 
 
 FIGURES: dict[str, Figure] = {
@@ -43,6 +47,8 @@ FIGURES: dict[str, Figure] = {
     "fig5": Figure(options=("trajectory_settings", "near_distance")),
     "fig6": Figure(reads=("theory", "empirical")),
     "fig7": Figure(reads=("theory", "empirical")),
+    # beyond the paper: real learners against M_L and M_CF (issue 15; config/learners.yaml)
+    "learners": Figure(needs="learners", files=("learners/runs.csv", "learners/correlations.csv")),
 }
 
 #: Every figure rule's input: the one matplotlib style all figures use.

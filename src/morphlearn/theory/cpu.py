@@ -57,3 +57,56 @@ def sweep(
         _sweep(designs, w, starts, float(radius), float(horizon), int(method), float(rtol),
                float(atol), float(dt), int(max_steps), out_t, out_d, out_s, out_n)  # fmt: skip
     return out_t, out_d, out_s, out_n
+
+
+@numba.njit(parallel=True, cache=True)
+def _points(designs, starts, di, ei, w1, w2, radius, horizon, method, rtol, atol, dt, max_steps,
+            out_t, out_d, out_s):  # fmt: skip
+    for k in numba.prange(di.shape[0]):
+        d = di[k]
+        e = ei[k]
+        ft, dm, st, n = _trajectory(
+            starts[e, 0], starts[e, 1],
+            designs[d, 0], designs[d, 1], designs[d, 2], designs[d, 3],
+            w1[k], w2[k], radius, horizon, method, rtol, atol, dt, max_steps,
+        )  # fmt: skip
+        out_t[k] = ft
+        out_d[k] = dm
+        out_s[k] = st
+
+
+def points(
+    designs: np.ndarray,
+    starts: np.ndarray,
+    design_idx: np.ndarray,
+    env_idx: np.ndarray,
+    w1: np.ndarray,
+    w2: np.ndarray,
+    *,
+    radius: float,
+    horizon: float,
+    method: int,
+    rtol: float,
+    atol: float,
+    dt: float,
+    max_steps: int,
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Evaluate arbitrary trajectories ``k``: design ``designs[design_idx[k]]`` in environment
+    ``env_idx[k]`` with weights ``(w1[k], w2[k])`` (continuous, not only grid points), the same
+    compiled model as :func:`sweep`. Returns (first_time, min_dist, status) per trajectory."""
+    designs = np.ascontiguousarray(designs, dtype=np.float64).reshape(-1, 4)
+    starts = np.ascontiguousarray(starts, dtype=np.float64)
+    di = np.ascontiguousarray(design_idx, dtype=np.int64)
+    ei = np.ascontiguousarray(env_idx, dtype=np.int64)
+    a = np.ascontiguousarray(w1, dtype=np.float64)
+    b = np.ascontiguousarray(w2, dtype=np.float64)
+    if not (di.shape == ei.shape == a.shape == b.shape) or di.ndim != 1:
+        raise ValueError(f"points: design_idx, env_idx, w1, w2 must be 1-d of one length, got "
+                         f"{di.shape}, {ei.shape}, {a.shape}, {b.shape}")  # fmt: skip
+    n = di.shape[0]
+    out_t, out_d, out_s = np.empty(n), np.empty(n), np.empty(n, dtype=np.int8)
+    if n:
+        with numba.parallel_chunksize(_CHUNK):
+            _points(designs, starts, di, ei, a, b, float(radius), float(horizon), int(method),
+                    float(rtol), float(atol), float(dt), int(max_steps), out_t, out_d, out_s)  # fmt: skip
+    return out_t, out_d, out_s

@@ -1,0 +1,120 @@
+"""Learners over controller weights ``(w1, w2)`` in the box [-1, 1]^2, as ask/tell objects.
+
+Each learner draws from its own ``numpy.random.Generator`` (CMA-ES included: its sampler is
+replaced by the learner's generator), so a run's numbers depend only on its seed, not on which
+other runs are batched beside it. Incumbents and budgets are the protocol's business
+(``protocols``); ``rescore`` tells a learner that the objective changed under its current point.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Protocol
+
+import cma
+import numpy as np
+
+LO, HI = -1.0, 1.0
+#: The learners, in a fixed order (their index enters the run seeds).
+NAMES = ("random", "one_plus_one", "cmaes")
+
+
+class Learner(Protocol):
+    def ask(self) -> np.ndarray: ...  # (k, 2) candidates
+    def tell(self, x: np.ndarray, f: np.ndarray) -> None: ...
+    def rescore(self, f: float) -> None: ...
+
+
+def _uniform(rng: np.random.Generator, k: int = 1) -> np.ndarray:
+    return rng.uniform(LO, HI, size=(k, 2))
+
+
+class RandomSearch:
+    """Uniform samples of the box, one per ask: one sample is a generalist with probability
+    equal to the share of the weight plane that succeeds everywhere (M_L in the grid's limit)."""
+
+    def __init__(self, rng: np.random.Generator, sigma0: float) -> None:
+        self.rng = rng
+
+    def ask(self) -> np.ndarray:
+        return _uniform(self.rng)
+
+    def tell(self, x: np.ndarray, f: np.ndarray) -> None:
+        pass
+
+    def rescore(self, f: float) -> None:
+        pass
+
+
+class OnePlusOne:
+    """(1+1)-ES with the 1/5th success rule (step x e^{1/3} on success, x e^{-1/12} otherwise:
+    stationary at a success rate of 1/5), offspring clipped to the box, ties accepted (moves
+    along plateaus). The first ask is the uniformly drawn parent itself."""
+
+    UP, DOWN = math.exp(1.0 / 3.0), math.exp(-1.0 / 12.0)
+    SIGMA_MIN, SIGMA_MAX = 1e-3, 1.0
+
+    def __init__(self, rng: np.random.Generator, sigma0: float) -> None:
+        self.rng = rng
+        self.sigma = sigma0
+        self.x = _uniform(rng)[0]
+        self.f = math.inf
+
+    def ask(self) -> np.ndarray:
+        if not math.isfinite(self.f):
+            return self.x[None, :].copy()
+        return np.clip(self.x + self.sigma * self.rng.standard_normal(2), LO, HI)[None, :]
+
+    def tell(self, x: np.ndarray, f: np.ndarray) -> None:
+        first = not math.isfinite(self.f)
+        if f[0] <= self.f:
+            if not first:
+                self.sigma = min(self.sigma * self.UP, self.SIGMA_MAX)
+            self.x, self.f = np.asarray(x[0], dtype=np.float64).copy(), float(f[0])
+        else:
+            self.sigma = max(self.sigma * self.DOWN, self.SIGMA_MIN)
+
+    def rescore(self, f: float) -> None:
+        self.f = float(f)
+
+
+class CMAES:
+    """CMA-ES of the ``cma`` package (default population 6 in 2-d, box bounds), started at a
+    uniform point with step ``sigma0``; restarted from its last mean with ``sigma0`` when ``cma``'s
+    own termination criteria fire (a collapsed step cannot follow a changed objective)."""
+
+    def __init__(self, rng: np.random.Generator, sigma0: float) -> None:
+        self.rng = rng
+        self.sigma0 = sigma0
+        self._start(_uniform(rng)[0])
+
+    def _start(self, x0: np.ndarray) -> None:
+        opts = {
+            "bounds": [LO, HI], "seed": math.nan, "verbose": -9, "verb_log": 0, "verb_disp": 0,
+            "randn": lambda lam, n: self.rng.standard_normal((lam, n)),
+            "tolfun": 1e-9, "tolx": 1e-6, "maxfevals": math.inf,
+        }  # fmt: skip
+        self.es = cma.CMAEvolutionStrategy(np.asarray(x0, dtype=np.float64).tolist(), self.sigma0, opts)
+        self._pending: list[np.ndarray] = []
+
+    def ask(self) -> np.ndarray:
+        if self.es.stop():
+            self._start(np.clip(self.es.mean, LO, HI))
+        self._pending = self.es.ask()
+        return np.array(self._pending, dtype=np.float64)
+
+    def tell(self, x: np.ndarray, f: np.ndarray) -> None:
+        if len(f) == len(self._pending):  # a generation cut short by the budget is not told
+            self.es.tell(self._pending, [float(v) for v in f])
+
+    def rescore(self, f: float) -> None:
+        pass  # CMA-ES keeps no fitness of its mean: it follows the new objective from its samples
+
+
+CLASSES: dict[str, type] = {"random": RandomSearch, "one_plus_one": OnePlusOne, "cmaes": CMAES}
+
+
+def make(name: str, rng: np.random.Generator, sigma0: float) -> Learner:
+    if name not in CLASSES:
+        raise ValueError(f"learner {name!r} unknown; allowed: {list(NAMES)}")
+    return CLASSES[name](rng, sigma0)

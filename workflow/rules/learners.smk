@@ -1,0 +1,53 @@
+# Real learners on the theory model (beyond the paper, issue 15): one job per shard of designs,
+# then the analysis against the theory metrics (M_L, M_CF).
+
+
+localrules:
+    learners_analysis,
+
+
+rule learners_shard:
+    output:
+        f"{R}/learners/shards/shard_{{shard}}.csv",
+    log:
+        f"{R}/logs/learners/shard_{{shard}}.log",
+    benchmark:
+        f"{R}/benchmarks/learners/shard_{{shard}}.tsv"
+    wildcard_constraints:
+        shard=r"\d+",
+    conda:
+        "../../envs/learners.yaml"
+    threads: CFG["learners"]["threads"]
+    resources:
+        runtime=60,
+        mem_mb=2000,
+    params:
+        key=lambda w: {
+            "science": cfgmod.digest(cfgmod.learner_science(CFG)),
+            "designs": cfgmod.digest(LEARNER_SHARDS[int(w.shard)].tolist()),
+        },
+    script:
+        "../scripts/learners_shard.py"
+
+
+rule learners_analysis:
+    input:
+        shards=expand(
+            f"{R}/learners/shards/shard_{{shard}}.csv",
+            shard=range(len(LEARNER_SHARDS)),
+        ),
+        metrics=f"{R}/theory/metrics.csv",
+    output:
+        runs=f"{R}/learners/runs.csv",
+        correlations=f"{R}/learners/correlations.csv",
+        md=f"{R}/learners/summary.md",
+    log:
+        f"{R}/logs/learners/analysis.log",
+    benchmark:
+        f"{R}/benchmarks/learners/analysis.tsv"
+    conda:
+        "../../envs/learners.yaml"
+    params:
+        bootstrap=CFG["learners"]["bootstrap"],
+    script:
+        "../scripts/learners_analysis.py"
