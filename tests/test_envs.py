@@ -48,11 +48,12 @@ SMOKE_STEPS = {
     "empirical": (["empirical_shard", "optimise_morphology"],
                   ["results/empirical/shards/shard_0.nc", "results/morphology/pareto.csv"]),
     "analysis": (["merge", "metrics", "summary"], ["results/summary.md"]),
+    "learners": (["learners_shard", "learners_analysis"], ["results/learners/summary.md"]),
     # Every notebook, the reproduction table and the results bundle (which holds all of them).
-    "figures": ([*(f"figure_fig{i}" for i in range(1, 8)), "reproduction", "bundle"],
+    "figures": ([*(f"figure_fig{i}" for i in range(1, 8)), "figure_learners", "reproduction", "bundle"],
                 ["results/bundle"]),
 }  # fmt: skip
-CONFIGS = ("config/smoke.yaml", "tiny_optimise.yaml")
+CONFIGS = ("config/smoke.yaml", "tiny_optimise.yaml", "tiny_learners.yaml")
 
 
 def build_env(name: str, dest: Path) -> Path:
@@ -84,6 +85,9 @@ def test_each_env_runs_its_rules(tmp_path: Path) -> None:
     # optimise_morphology with one NSGA-II population (20 evaluations: seconds, not minutes)
     (wd / "tiny_optimise.yaml").write_text(
         "empirical:\n  optimise:\n    evaluations: 20\nbundle_dir: results/bundle\n")
+    (wd / "tiny_learners.yaml").write_text(  # the learner stage, seconds (tests/test_learners_workflow.py)
+        "learners: {enabled: true, seeds: 2, budget: 4, cycles: 1, per_phase: 4, max_designs: 3, shards: 1, "
+        "threads: 1, bootstrap: 100}\n")
     for env, (rules, targets) in SMOKE_STEPS.items():
         python = build_env(env, tmp_path / "envs" / env)
         args = [str(python), "-m", "snakemake", *targets, "--cores", "2", "--configfile", *CONFIGS,

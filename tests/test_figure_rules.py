@@ -16,7 +16,7 @@ import yaml
 from conftest import copy_workflow, job_stats, snakemake
 
 from morphlearn import config, pipeline
-from morphlearn.figures import output, registry
+from morphlearn.figures import output
 from morphlearn.figures.reproduction import QUANTITIES
 
 SIM_RULES = {"theory_shard", "empirical_shard", "merge", "metrics", "summary"}
@@ -177,7 +177,7 @@ def test_reviewer_rerenders_from_stored_results_only(smoke_run: Path, tmp_path: 
     stats = job_stats(proc.stdout + proc.stderr)
     print(f"re-rendered {sum(v for k, v in stats.items() if k.startswith('figure_'))} figures in {wall:.0f} s")
     assert not SIM_RULES & set(stats)
-    assert {f"figure_{f}" for f in registry.FIGURES} <= set(stats) and "reproduction" in stats
+    assert {f"figure_{f}" for f in pipeline.FIGURES} <= set(stats) and "reproduction" in stats
     assert not (wd / "results/theory/shards").exists()
     for fig in pipeline.FIGURES:  # same pictures as the full run's (deterministic rendering)
         assert (wd / f"results/figures/{fig}.png").read_bytes() == (

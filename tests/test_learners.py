@@ -104,7 +104,7 @@ def test_runs_are_deterministic_and_independent_of_batching() -> None:
 
 
 @pytest.mark.parametrize("design", [99, 156, 312])
-def test_random_search_success_rate_matches_M_L(design: int) -> None:
+def test_random_search_success_rate_matches_m_l(design: int) -> None:
     """One uniform sample is a generalist with probability = the generalist share of the weight
     square, which the grid's M_L estimates. Tolerance: 4 binomial standard errors plus the share of
     grid cells on the generalist boundary (where the grid cannot say which side the area is on)."""

@@ -32,6 +32,8 @@ from morphlearn import grid as gridmod
 from morphlearn.figures.data import PAPER_BEST_DESIGN
 
 #: Files copied from the run's results folder, when present (paths relative to it).
+#: The learner stage's small tables (its figure and reproduction rows read them).
+LEARNER_FILES = ("runs.csv", "correlations.csv", "summary.md")
 COPIED = (
     "summary.json",
     "summary.md",
@@ -113,6 +115,10 @@ def build(run_dir: str | Path, out_dir: str | Path, *, positions_per_axis: int, 
             src = run_dir / model / "merged.zarr"
             store.write_subset(src, designs, tmp / model / "merged.zarr")
             subsets[model] = {"designs": [int(d) for d in designs], "of": len(table)}
+        for name in LEARNER_FILES:  # the learner stage (beyond the paper), when the run has it
+            if (run_dir / "learners" / name).is_file():
+                (tmp / "learners").mkdir(exist_ok=True)
+                shutil.copy2(run_dir / "learners" / name, tmp / "learners" / name)
         figs = sorted(p for p in (run_dir / "figures").glob("*") if p.name.endswith(FIGURE_SUFFIXES))
         if figs:
             (tmp / "figures").mkdir()

@@ -304,5 +304,6 @@ class LearnerSettings:
 def learner_science(cfg: dict[str, Any]) -> dict[str, Any]:
     """The config subset that determines the learner stage's per-design numbers."""
     th = theory_science(cfg)
-    return {"model": "learners", "theory": th["theory"], "grid": {"positions_per_axis": cfg["grid"]["positions_per_axis"]},
+    grid = {"positions_per_axis": cfg["grid"]["positions_per_axis"]}
+    return {"model": "learners", "theory": th["theory"], "grid": grid,
             "learners": LearnerSettings.from_config(cfg).science()}  # fmt: skip

@@ -31,9 +31,7 @@ os.environ["PATH"] = (
 R = CFG["results_dir"]
 MODELS = pipeline.models(CFG)
 SHARDS = {m: pipeline.shard_designs(CFG, m) for m in MODELS}
-LEARNER_SHARDS = (
-    learner_experiment.shards(CFG) if CFG["learners"]["enabled"] else []
-)
+LEARNER_SHARDS = learner_experiment.shards(CFG) if CFG["learners"]["enabled"] else []
 
 
 # Results this config did not make that Snakemake has no record of (copied in, or .snakemake

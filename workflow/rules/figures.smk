@@ -59,6 +59,10 @@ rule reproduction:
         },
         # like a figure's: the package modules the script imports, so a code edit re-runs it
         code=figure_registry.notebook_modules("workflow/scripts/reproduction.py", "src"),
+        # beyond the paper: the learner stage's correlations, when it runs
+        learners=(
+            [f"{R}/learners/correlations.csv"] if CFG["learners"]["enabled"] else []
+        ),
     output:
         csv=f"{R}/reproduction.csv",
         md=f"{R}/reproduction.md",
@@ -77,6 +81,7 @@ rule reproduction:
     params:
         config_name=" + ".join(Path(f).name for f in reversed(workflow.configfiles)),
         empirical="empirical" in MODELS,
+        learners=CFG["learners"]["enabled"],
         near=CFG["figures"]["near_distance"],
         limit=CFG["figures"]["persistence_controllers"],
         settings=pipeline.trajectory_settings(CFG),

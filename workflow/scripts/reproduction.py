@@ -12,7 +12,7 @@ from morphlearn.figures import reproduction  # noqa: E402
 p, out = snakemake.params, snakemake.output  # noqa: F821
 table, persistence = reproduction.run(
     cfg["results_dir"], p.config_name, p.thresholds.get("theory"), p.thresholds.get("empirical"),
-    p.empirical, p.settings, p.near, p.limit,
+    p.empirical, p.settings, p.near, p.limit, p.learners,
 )  # fmt: skip
 reproduction.write(table, out.csv, out.md, out.html)
 persistence.to_csv(out.persistence, index=False)

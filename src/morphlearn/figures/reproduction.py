@@ -55,6 +55,37 @@ QUANTITIES: tuple[tuple[str, str, str], ...] = (
     ("empirical_best_on_both", "empirical, one design best by both M_L and M_CF", "yes"),
 )  # fmt: skip
 COLUMNS = ["key", "quantity", "paper", "ours", "config", "note"]
+#: The paper's column for rows beyond the paper (the learner stage, issue 15).
+BEYOND = "beyond the paper (no learning algorithm tested)"
+LEARNER_LABELS = {"random": "random search", "one_plus_one": "(1+1)-ES", "cmaes": "CMA-ES"}
+
+
+def _ci(r: pd.Series, key: str) -> str:
+    if key not in r or pd.isna(r[key]):
+        return "n/a"
+    return f"{r[key]:+.3f} [{r[key + '_lo']:+.3f}, {r[key + '_hi']:+.3f}]"
+
+
+def learner_rows(corr: pd.DataFrame, config_name: str) -> list[dict[str, str]]:
+    """Rows beyond the paper: per learner and protocol, Spearman rho (95 % bootstrap interval)
+    of M_L with the probability of reaching a generalist, of M_CF with 1 - forgetting rate
+    (sequential), and the advantage over random search."""
+    rows = []
+    for _, r in corr.iterrows():
+        name = f"{LEARNER_LABELS.get(r.learner, r.learner)}, {r.protocol} training"
+        k = f"learners_{r.learner}_{r.protocol}"
+        items = [(f"{k}_rho_M_L", f"{name}: Spearman rho(M_L, P(generalist))", _ci(r, "rho_ML_success"))]
+        if r.protocol == "sequential":
+            items.append((f"{k}_rho_M_CF", f"{name}: Spearman rho(M_CF, 1 - forgetting rate)",
+                          _ci(r, "rho_MCF_retention")))  # fmt: skip
+        if r.learner != "random":
+            items.append((f"{k}_advantage", f"{name}: P(generalist) minus random search's",
+                          _ci(r, "advantage_vs_random")))  # fmt: skip
+        for key, quantity, value in items:
+            note = f"{int(r.designs)} designs; learners/correlations.csv"
+            rows.append({"key": key, "quantity": quantity, "paper": BEYOND, "ours": value,
+                         "config": config_name, "note": note})  # fmt: skip
+    return rows
 
 
 def _frac(n: int, m: int) -> str:
@@ -153,8 +184,10 @@ def empirical_rows(res: fd.ModelResults) -> dict[str, tuple[str, str]]:
 
 
 def reproduction_table(theory: fd.ModelResults | None, empirical: fd.ModelResults | None,
-                       persistence: pd.DataFrame | None, config_name: str, near: float) -> pd.DataFrame:  # fmt: skip
-    """The table, one row per entry of ``QUANTITIES`` in that order."""
+                       persistence: pd.DataFrame | None, config_name: str, near: float,
+                       learners: pd.DataFrame | None = None) -> pd.DataFrame:  # fmt: skip
+    """The table, one row per entry of ``QUANTITIES`` in that order, then the learner rows (beyond
+    the paper) when ``learners`` (learners/correlations.csv) is given."""
     ours: dict[str, tuple[str, str]] = {}
     if theory is not None:
         ours |= theory_rows(theory, persistence, near)
@@ -166,6 +199,8 @@ def reproduction_table(theory: fd.ModelResults | None, empirical: fd.ModelResult
         value, note = ours.get(key, (NOT_RUN, ""))
         rows.append({"key": key, "quantity": quantity, "paper": paper, "ours": value,
                      "config": _config(res, config_name), "note": note})  # fmt: skip
+    if learners is not None:
+        rows += learner_rows(learners, config_name)
     return pd.DataFrame(rows, columns=COLUMNS)
 
 
@@ -193,8 +228,9 @@ def persistence_counts(theory: fd.ModelResults, settings: fd.TheorySettings, nea
 
 def run(results_dir: str, config_name: str, theory_thresholds: dict[str, Any] | None,
         empirical_thresholds: dict[str, Any] | None, empirical_enabled: bool, settings: dict[str, float],
-        near: float, limit: int) -> tuple[pd.DataFrame, pd.DataFrame]:  # fmt: skip
+        near: float, limit: int, learners_enabled: bool = False) -> tuple[pd.DataFrame, pd.DataFrame]:  # fmt: skip
     """Load the results and build (reproduction table, persistence table)."""
+    corr = pd.read_csv(Path(results_dir) / "learners" / "correlations.csv") if learners_enabled else None
     theory = fd.load_results(results_dir, "theory", theory_thresholds)
     if theory is None:
         raise FileNotFoundError(f"no theory results under {results_dir}")
@@ -202,4 +238,4 @@ def run(results_dir: str, config_name: str, theory_thresholds: dict[str, Any] | 
     if empirical_enabled and emp is None:
         raise FileNotFoundError("empirical.enabled is true but the empirical results are missing")
     pers = persistence_counts(theory, fd.TheorySettings(**settings), near, limit)
-    return reproduction_table(theory, emp, pers, config_name, near), pers
+    return reproduction_table(theory, emp, pers, config_name, near, corr), pers

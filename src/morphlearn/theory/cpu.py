@@ -65,7 +65,7 @@ def _points(designs, starts, di, ei, w1, w2, radius, horizon, method, rtol, atol
     for k in numba.prange(di.shape[0]):
         d = di[k]
         e = ei[k]
-        ft, dm, st, n = _trajectory(
+        ft, dm, st, _ = _trajectory(
             starts[e, 0], starts[e, 1],
             designs[d, 0], designs[d, 1], designs[d, 2], designs[d, 3],
             w1[k], w2[k], radius, horizon, method, rtol, atol, dt, max_steps,
