@@ -38,7 +38,9 @@ for _fig in FIGURES:
             "../../envs/figures.yaml"
         params:
             fig=_fig,
-            src=f"{workflow.basedir}/src",
+            # relative (the workflow runs from its root): an absolute path would be a changed
+            # param, and re-render every figure, whenever the project folder is moved or copied
+            src="src",
             parameters=figure_parameters(_fig),
             # The rerun trigger: Snakemake does not compare params that are functions of input or
             # output (as `parameters` is), so the figure's options also go in as plain text.
