@@ -71,15 +71,11 @@ def evaluate_designs(
     done: Callable[[int, DesignResult], None] | None = None,
 ) -> list[DesignResult]:
     """Results of ``designs``, in order; ``done(i, result)`` is called as each one finishes (the
-    theory kernel finishes its designs together, the empirical model one by one)."""
+    theory kernel finishes its designs a batch at a time, the empirical model one by one)."""
     g = gridmod.DesignGrid(cfg["grid"]["positions_per_axis"])
     w = weights(cfg, model)
     if model == "theory":
-        out = evaluate(g.coords(designs), w, TheoryParams.from_config(cfg["theory"]), progress=True)
-        for i, r in enumerate(out):
-            if done:
-                done(i, r)
-        return out
+        return evaluate(g.coords(designs), w, TheoryParams.from_config(cfg["theory"]), progress=True, done=done)
     from tqdm import tqdm
 
     from morphlearn.empirical import evaluate_design
