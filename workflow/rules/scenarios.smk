@@ -168,7 +168,6 @@ rule scenario_report:
     conda:
         "../../envs/figures.yaml"
     params:
-        src=f"{workflow.basedir}/src",
         parameters=lambda w, input, output: yaml.safe_dump(
             {
                 "comparison": input.csv,
@@ -182,7 +181,8 @@ rule scenario_report:
             width=10**6,
         ).strip(),
     shell:
-        "(export PYTHONPATH={params.src:q}${{PYTHONPATH:+:$PYTHONPATH}}; "
+        # relative, as the figures' (figures.smk): a moved project re-renders nothing
+        "(export PYTHONPATH=src${{PYTHONPATH:+:$PYTHONPATH}}; "
         "papermill {input.notebook:q} {log.notebook:q} -y {params.parameters:q} && "
         "jupyter nbconvert --to html --log-level WARN --output-dir $(dirname {output.html:q}) "
         "--output comparison {log.notebook:q}) > {log.text:q} 2>&1"
