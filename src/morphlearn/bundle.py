@@ -29,7 +29,6 @@ import pandas as pd
 
 from morphlearn import __version__, metrics, provenance, store
 from morphlearn import grid as gridmod
-from morphlearn.figures.data import PAPER_BEST_DESIGN
 
 #: Files copied from the run's results folder, when present (paths relative to it).
 COPIED = (
@@ -61,7 +60,7 @@ def drawn_designs(table: pd.DataFrame, n: int, top: int) -> np.ndarray:
     g = gridmod.DesignGrid(n)
     present = set(table.design.astype(int))
     want = set()
-    for design in (gridmod.canonical_design(), PAPER_BEST_DESIGN):
+    for design in (gridmod.canonical_design(), gridmod.PAPER_BEST_DESIGN):
         try:
             want.add(g.index_of(*design))
         except ValueError:  # not on this grid (a coarse test grid)

@@ -44,8 +44,7 @@ BASE = "base"
 NAME_RE = re.compile(r"^[A-Za-z0-9][A-Za-z0-9_.-]*$")
 #: Top-level config keys a scenario may override (the theory sweep and its analysis).
 OVERRIDABLE = ("grid", "theory", "sweep", "analysis", "design_cache")
-#: The paper's best theory design by M_L (same as figures.data.PAPER_BEST_DESIGN, kept light).
-PAPER_BEST_DESIGN = ((-0.5, -0.25), (0.5, 0.25))
+PAPER_BEST_DESIGN = gridmod.PAPER_BEST_DESIGN
 #: The paper's text values of M_L (canonical, best design); its captions give 57 and 2255 / 14641.
 TEXT_CANONICAL_M_L = 0.049
 TEXT_BEST_M_L = 0.286
