@@ -131,7 +131,7 @@ def build(run_dir: str | Path, out_dir: str | Path, *, positions_per_axis: int, 
 
 def _positions_of(model_dir: Path) -> int:
     """Positions per axis of a model's run, from its merged dataset's science record."""
-    sci = json.loads(store.open_merged(model_dir / "merged.zarr").attrs["science_json"])
+    sci = store.science_of(store.open_merged(model_dir / "merged.zarr"))
     return int(sci.get("grid", {}).get("positions_per_axis", sci.get("positions_per_axis")))
 
 

@@ -24,6 +24,7 @@ from __future__ import annotations
 
 import copy
 import itertools
+import json
 import math
 import re
 from collections.abc import Iterable, Sequence
@@ -270,17 +271,6 @@ def plan_markdown(plan_: Plan, scenarios: Sequence[Scenario]) -> str:
 # Comparison
 
 
-def _find(table: pd.DataFrame, design: tuple[tuple[float, float], tuple[float, float]]) -> pd.Series | None:
-    (a, b), (c, d) = design
-    hit = table[(table.l1x == a) & (table.l1y == b) & (table.l2x == c) & (table.l2y == d)]
-    return hit.iloc[0] if len(hit) else None
-
-
-def rank_of(table: pd.DataFrame, row: pd.Series, by: str) -> int:
-    """1 + the number of designs strictly better (ties share a rank), as the summary's rank."""
-    return int((table[by] > row[by]).sum()) + 1
-
-
 def _label(r: pd.Series) -> str:
     return f"({r.l1x:g},{r.l1y:g}),({r.l2x:g},{r.l2y:g})"
 
@@ -301,10 +291,10 @@ def compare(tables: dict[str, pd.DataFrame], top: int = 10, base: str = BASE) ->
         tr = t.reset_index()
         row: dict[str, Any] = {"scenario": name}
         for label, design in (("canonical", gridmod.canonical_design()), ("paper_best", PAPER_BEST_DESIGN)):
-            d = _find(tr, design)
+            d = metrics.find_row(tr, design)
             for m in ("M_L", "M_CF"):
                 row[f"{label}_{m}"] = float(d[m]) if d is not None else math.nan
-                row[f"{label}_rank_{m}"] = rank_of(tr, d, m) if d is not None else None
+                row[f"{label}_rank_{m}"] = metrics.rank_of(tr, d, m) if d is not None else None
         for m in ("M_L", "M_CF"):
             ranked = metrics.rank_designs(tr, m)
             best = ranked.iloc[0]
@@ -314,7 +304,7 @@ def compare(tables: dict[str, pd.DataFrame], top: int = 10, base: str = BASE) ->
             theirs = set(metrics.rank_designs(ref.reset_index(), m).design.head(top))
             row[f"top{top}_overlap_{m}"] = len(mine & theirs)
             row[f"paper_best_in_top{top}_{m}"] = bool(
-                _find(ranked.head(top), PAPER_BEST_DESIGN) is not None)
+                metrics.find_row(ranked.head(top), PAPER_BEST_DESIGN) is not None)
             tau = kendalltau(t[m].to_numpy(), ref[m].to_numpy()).statistic
             row[f"tau_{m}"] = float(tau)
         row["text_distance"] = text_distance(row["canonical_M_L"], row["best_M_L"])
@@ -331,6 +321,12 @@ def text_distance(canonical_ml: float, best_ml: float) -> float:
 # ---------------------------------------------------------------------------------------------
 # Free search over the thresholds a stored simulation can answer
 
+#: The free threshold scan over every stored simulation: horizons in steps of this, up to the
+#: simulated one, and these radii (each where the simulation answers it).
+SCAN_HORIZON_STEP = 50.0
+SCAN_RADII = (0.1, 0.15, 0.2, 0.3, 0.4, 0.5, 0.6, 0.8, 1.0)
+
+
 
 def derivable(sim_horizon: float, sim_radius: float, horizons: Iterable[float],
               radii: Iterable[float]) -> list[tuple[float, float]]:  # fmt: skip
@@ -346,24 +342,26 @@ def generalist_fraction(first_time: np.ndarray, min_dist: np.ndarray, th: metric
     return (o == 4).mean(axis=(-2, -1))
 
 
-def threshold_scan(merged: str | Path, pairs: Sequence[tuple[float, float]]) -> pd.DataFrame:
+def threshold_scan(merged: str | Path, pairs: Sequence[tuple[float, float]] | None = None) -> pd.DataFrame:
     """Canonical M_L, best M_L and the paper's best design's M_L at every (horizon, radius) of
-    ``pairs`` that the merged store answers (its simulated horizon and radius from its attrs)."""
+    ``pairs`` that the merged store answers (its simulated horizon and radius from its attrs);
+    by default every pair of the free scan (SCAN_HORIZON_STEP, SCAN_RADII) it answers."""
     from morphlearn import store
 
     ds = store.open_merged(merged)
-    import json
-
-    sci = json.loads(ds.attrs["science_json"])["theory"]
+    sci = store.science_of(ds)["theory"]
     ts, rs = float(sci["horizon"]), float(sci["success_radius"])
+    if pairs is None:
+        horizons = np.arange(SCAN_HORIZON_STEP, ts + SCAN_HORIZON_STEP / 2, SCAN_HORIZON_STEP)
+        pairs = derivable(ts, rs, horizons, SCAN_RADII)
     ft, md = [], []
     for _, arrays in store.read_blocks(ds):
         ft.append(arrays["first_time"])
         md.append(arrays["min_dist"])
     first_time, min_dist = np.concatenate(ft), np.concatenate(md)
     coords = pd.DataFrame({c: ds[c].values for c in ("l1x", "l1y", "l2x", "l2y")})
-    canon = _find(coords, gridmod.canonical_design()).name
-    best = _find(coords, PAPER_BEST_DESIGN)
+    canon = metrics.find_row(coords, gridmod.canonical_design()).name
+    best = metrics.find_row(coords, PAPER_BEST_DESIGN)
     rows = []
     for t, r in pairs:
         if not answers((ts, rs), (t, r)):
@@ -381,18 +379,10 @@ def threshold_scan(merged: str | Path, pairs: Sequence[tuple[float, float]]) -> 
 # ---------------------------------------------------------------------------------------------
 # What the workflow's scenario rules do (their scripts only unpack and call)
 
-#: The free threshold scan over every stored simulation: horizons in steps of this, up to the
-#: simulated one, and these radii (each where the simulation answers it).
-SCAN_HORIZON_STEP = 50.0
-SCAN_RADII = (0.1, 0.15, 0.2, 0.3, 0.4, 0.5, 0.6, 0.8, 1.0)
-
-
 def run_metrics(metrics_cfg: dict[str, Any], merged: str | Path, out_csv: str | Path,
                 record: dict[str, Any], out_json: str | Path) -> None:  # fmt: skip
     """A scenario's metrics from its simulation at its thresholds, and its record (overrides,
     simulation, how it is answered)."""
-    import json
-
     from morphlearn import pipeline, store
 
     pipeline.run_metrics(metrics_cfg, "theory", merged, out_csv)
@@ -407,15 +397,7 @@ def run_compare(tables: dict[str, str], merged: dict[str, str], top: int, out_cs
     from morphlearn import store
 
     comp = compare({n: pd.read_csv(p) for n, p in tables.items()}, top=top)
-    scans = []
-    for sid, path in merged.items():
-        import json
-
-        ds = store.open_merged(path)
-        th = json.loads(ds.attrs["science_json"])["theory"]
-        ts, rs = float(th["horizon"]), float(th["success_radius"])
-        horizons = np.arange(SCAN_HORIZON_STEP, ts + SCAN_HORIZON_STEP / 2, SCAN_HORIZON_STEP)
-        scans.append(threshold_scan(path, derivable(ts, rs, horizons, SCAN_RADII)).assign(simulation=sid))
+    scans = [threshold_scan(path).assign(simulation=sid) for sid, path in merged.items()]
     scan = pd.concat(scans, ignore_index=True).sort_values(["text_distance", "r", "horizon", "radius"])
     with store.atomic_path(Path(out_csv)) as tmp:
         comp.to_csv(tmp, index=False, float_format="%.6g")
