@@ -18,8 +18,16 @@ report: "workflow/report/workflow.rst"
 include: "workflow/rules/common.smk"
 
 
+# scenarios: named variants of this config instead of the main workflow (docs/scenarios.md).
+if CFG["scenarios"] is not None:
+
+    include: "workflow/rules/scenarios.smk"
+
+    ALL_TARGETS = SCENARIO_TARGETS
+
+
 # render_only: no rule that simulates, merges or computes metrics exists.
-if not RENDER_ONLY:
+elif not RENDER_ONLY:
 
     include: "workflow/rules/theory.smk"
     include: "workflow/rules/empirical.smk"
@@ -34,7 +42,9 @@ if not RENDER_ONLY:
         include: "workflow/rules/bundle.smk"
 
 
-include: "workflow/rules/figures.smk"
+if CFG["scenarios"] is None:
+
+    include: "workflow/rules/figures.smk"
 
 
 rule all:

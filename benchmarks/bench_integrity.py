@@ -116,7 +116,7 @@ def main() -> None:
                  lambda: render_after(path, a.figure_designs))]  # fmt: skip
         for name, before, after in rows:
             b, c = best(before, a.repeat), best(after, a.repeat)
-            print(f"{name:18s} before {b:7.3f} s  after {c:7.3f} s  (+{100 * (c - b) / b:.1f} %, +{c - b:.3f} s)")
+            print(f"{name:18s} before {b:7.3f} s  after {c:7.3f} s  ({100 * (c - b) / b:+.1f} %, {c - b:+.3f} s)")
 
 
 if __name__ == "__main__":

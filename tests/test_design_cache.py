@@ -125,3 +125,34 @@ def test_killed_shard_resumes_and_damaged_designs_are_recomputed(
     other = config.deep_merge(cfg, {"theory": {"horizon": 400.0}})
     assert design_cache.cache_dir(cfg["results_dir"], "theory", pipeline.science(other, "theory")) != folder
     assert np.array_equal(designs, pipeline.shard_designs(other, "theory")[0])
+
+
+def test_theory_shard_saves_each_batch_as_it_finishes(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """A theory shard killed mid-way keeps the designs of its finished batches (not only of
+    finished shards): the kernel reports each batch, and the cache saves it at once."""
+    cfg = config.deep_merge(SMOKE, {"results_dir": str(tmp_path / "results"), "sweep": {"shards": 9}})
+    designs = pipeline.shard_designs(cfg, "theory")[0]
+    folder = design_cache.cache_dir(cfg["results_dir"], "theory", pipeline.science(cfg, "theory"))
+    import morphlearn.theory as theory
+    from morphlearn.theory import cpu
+
+    real, real_sweep = theory.evaluate, cpu.sweep
+    # one design per batch; the run is "killed" while the third batch's design is being saved
+    monkeypatch.setattr(pipeline, "evaluate", lambda *a, **k: real(*a, **k, batch_trajectories=1))
+    batches: list[int] = []
+    monkeypatch.setattr(cpu, "sweep", lambda d, *a, **k: batches.append(len(d)) or real_sweep(d, *a, **k))
+    saved: list[int] = []
+    real_save = design_cache.save
+
+    def save(folder: Path, design: int, *a: object, **k: object) -> None:
+        if len(saved) == 2:
+            assert batches == [1, 1, 1]  # saved before the remaining batches run, not after
+            raise KeyboardInterrupt
+        real_save(folder, design, *a, **k)
+        saved.append(design)
+
+    monkeypatch.setattr(design_cache, "save", save)
+    with pytest.raises(KeyboardInterrupt):
+        pipeline.run_shard(cfg, "theory", 0, tmp_path / "shard_0.nc")
+    assert sorted(folder.iterdir()) == sorted(design_cache.design_path(folder, d) for d in designs[:2])
+    assert not (tmp_path / "shard_0.nc").exists()

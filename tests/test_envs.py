@@ -54,6 +54,15 @@ SMOKE_STEPS = {
                 ["results/bundle"]),
 }  # fmt: skip
 CONFIGS = ("config/smoke.yaml", "tiny_optimise.yaml", "tiny_learners.yaml")
+# The scenario rules (workflow/rules/scenarios.smk), on a base and a shorter-horizon scenario of the
+# smoke config: env -> (rules, --until rules; the run's targets are the scenario workflow's own).
+SCENARIO_STEPS = {
+    "theory": (["scenario_shard"], ["scenario_shard"]),
+    "analysis": (["scenario_merge", "scenario_metrics", "scenario_summary", "scenario_compare"],
+                 ["scenario_summary", "scenario_compare"]),
+    "figures": (["scenario_report"], ["scenario_report"]),
+}  # fmt: skip
+SCENARIOS = ("--config", "scenario_file=s.yaml", "scenarios=all")
 
 
 def build_env(name: str, dest: Path) -> Path:
@@ -72,14 +81,15 @@ def test_every_conda_rule_is_run() -> None:
     for smk in (ROOT / "workflow/rules").glob("*.smk"):
         text = smk.read_text()
         for name, env in re.findall(r'rule (\w+):\n(?:.*\n)*?\s+conda:\s*\n\s*"\.\./\.\./envs/(\w+)\.yaml"', text):
-            assert name in SMOKE_STEPS[env][0], f"{smk.name}: rule {name} (envs/{env}.yaml) is not run"
+            run = SMOKE_STEPS[env][0] + SCENARIO_STEPS.get(env, ([], []))[0]
+            assert name in run, f"{smk.name}: rule {name} (envs/{env}.yaml) is not run"
     # the figure rules are made in a loop (rule name f"figure_{_fig}"): all name envs/figures.yaml
     assert '"../../envs/figures.yaml"' in (ROOT / "workflow/rules/figures.smk").read_text()
 
 
 @pytest.mark.slow
 def test_each_env_runs_its_rules(tmp_path: Path) -> None:
-    from conftest import copy_workflow
+    from conftest import copy_workflow, job_stats, snakemake
 
     wd = copy_workflow(tmp_path / "wd")
     # optimise_morphology with one NSGA-II population (20 evaluations: seconds, not minutes)
@@ -88,20 +98,30 @@ def test_each_env_runs_its_rules(tmp_path: Path) -> None:
     (wd / "tiny_learners.yaml").write_text(  # the learner stage, seconds (tests/test_learners_workflow.py)
         "learners: {enabled: true, seeds: 2, budget: 4, cycles: 1, per_phase: 4, max_designs: 3, shards: 1, "
         "threads: 1, bootstrap: 100}\n")
-    for env, (rules, targets) in SMOKE_STEPS.items():
-        python = build_env(env, tmp_path / "envs" / env)
-        args = [str(python), "-m", "snakemake", *targets, "--cores", "2", "--configfile", *CONFIGS,
-                "--allowed-rules", *rules]  # fmt: skip
-        proc = subprocess.run(args, cwd=wd, capture_output=True, text=True, timeout=900,
+    (wd / "s.yaml").write_text("base: {}\nshort:\n  theory:\n    horizon: 200.0\n")
+    pythons = {env: build_env(env, tmp_path / "envs" / env) for env in SMOKE_STEPS}
+
+    def run(env: str, *args: str) -> dict[str, int]:
+        # args before --configfile, which takes every following word as a config file
+        proc = subprocess.run([str(pythons[env]), "-m", "snakemake", *args, "--cores", "2", "--configfile",
+                               *CONFIGS], cwd=wd, capture_output=True, text=True, timeout=900,
                               env=dict(os.environ, MORPHLEARN_GIT_COMMIT="test"))  # fmt: skip
-        logs = "\n".join(p.read_text()[-1500:] for p in sorted((wd / "results/logs").rglob("*.log")))
-        assert proc.returncode == 0, f"envs/{env}.yaml:\n{proc.stderr[-3000:]}\n{logs}"
+        logs = "\n".join(p.read_text()[-1500:] for p in sorted((wd / "results").rglob("logs/**/*.log")))
+        assert proc.returncode == 0, f"envs/{env}.yaml {args}:\n{proc.stderr[-3000:]}\n{logs}"
+        return job_stats(proc.stdout + proc.stderr)
+
+    for env, (rules, targets) in SMOKE_STEPS.items():
+        run(env, *targets, "--allowed-rules", *rules)
+    for env, (rules, until) in SCENARIO_STEPS.items():
+        # --until, not --allowed-rules (which would leave the final targets unmakeable): the jobs
+        # run are the step's own rules, since earlier steps made everything upstream.
+        ran = run(env, *SCENARIOS, "--until", *until)
+        assert set(ran) - {"scenarios", "all"} == set(rules), (env, ran)
     # Together the environments made the workflow: the main environment has nothing left to do
     # (nothing made in an environment is out of date).
-    from conftest import job_stats, snakemake
-
-    proc = snakemake(wd, "-n", "--cores", "1", "--configfile", *CONFIGS)
-    assert job_stats(proc.stdout + proc.stderr) in ({}, {"all": 1}), proc.stdout[-2000:]
+    for extra in ((), SCENARIOS):
+        proc = snakemake(wd, "-n", "--cores", "1", "--configfile", *CONFIGS, *extra)
+        assert job_stats(proc.stdout + proc.stderr) in ({}, {"all": 1}), proc.stdout[-2000:]
 
 
 PARSE_AND_PLAN = """

@@ -233,30 +233,19 @@ def test_start_script_refuses_non_root():
 
 
 @pytest.fixture(scope="module")
-def smoke_runs(slurm_cluster, tmp_path_factory, request):
-    """The smoke config run once through SLURM and once locally, in separate copies."""
+def smoke_runs(slurm_cluster, smoke_run, tmp_path_factory, request):
+    """The smoke config's merged results made through SLURM, beside the shared local smoke run
+    (conftest's ``smoke_run``, made with ``--cores 2``): the figures are local rules either way,
+    so only the targets that shards feed are asked of SLURM."""
     _need_workflow(SMOKE)
     on_slurm = copy_workflow(tmp_path_factory.mktemp("smoke-slurm"))
-    local = copy_workflow(tmp_path_factory.mktemp("smoke-local"))
-
-    # Results record the git commit; pin it so that a commit landing between the two runs
-    # does not make them differ (it also travels to the SLURM jobs via sbatch --export=ALL).
-    env = {}
-    try:
-        from morphlearn.provenance import git_commit
-
-        env["MORPHLEARN_GIT_COMMIT"] = git_commit()
-    except ImportError:
-        pass
-
-    slurm_run = snakemake(on_slurm, "--profile", str(PROFILE_TEST), "--configfile", SMOKE, env=env)
+    # Results record the git commit; the shared local run pins it to "test" (conftest), so this
+    # run does too (it travels to the SLURM jobs via sbatch --export=ALL).
+    env = {"MORPHLEARN_GIT_COMMIT": "test"}
+    slurm_run = snakemake(on_slurm, *MERGED, "--profile", str(PROFILE_TEST), "--configfile", SMOKE, env=env)
     _require_ok(slurm_run, "SLURM smoke run")
-    _say(request, f"smoke run through SLURM: {slurm_run.seconds:.1f} s")
-
-    local_run = snakemake(local, "--cores", "2", "--configfile", SMOKE, env=env)
-    _require_ok(local_run, "local smoke run")
-    _say(request, f"smoke run locally (--cores 2): {local_run.seconds:.1f} s")
-    return {"slurm": (on_slurm, slurm_run), "local": (local, local_run)}
+    _say(request, f"smoke run's merged results through SLURM: {slurm_run.seconds:.1f} s")
+    return {"slurm": (on_slurm, slurm_run), "local": (smoke_run, None)}
 
 
 @pytest.mark.slow
@@ -298,7 +287,7 @@ def test_smoke_slurm_matches_local_bit_for_bit(smoke_runs):
 @pytest.mark.slow
 def test_resume_resubmits_only_missing_outputs(smoke_runs):
     workdir, _ = smoke_runs["slurm"]
-    args = ("--profile", str(PROFILE_TEST), "--configfile", SMOKE, "-n")
+    args = (*MERGED, "--profile", str(PROFILE_TEST), "--configfile", SMOKE, "-n")
     again = snakemake(workdir, *args, timeout_s=120)
     _require_ok(again, "dry run after a finished run")
     assert "Nothing to be done" in again.output, _tail(again.output)

@@ -29,7 +29,6 @@ import pandas as pd
 
 from morphlearn import __version__, metrics, provenance, store
 from morphlearn import grid as gridmod
-from morphlearn.figures.data import PAPER_BEST_DESIGN
 
 #: Files copied from the run's results folder, when present (paths relative to it).
 #: The learner stage's small tables (its figure and reproduction rows read them).
@@ -63,7 +62,7 @@ def drawn_designs(table: pd.DataFrame, n: int, top: int) -> np.ndarray:
     g = gridmod.DesignGrid(n)
     present = set(table.design.astype(int))
     want = set()
-    for design in (gridmod.canonical_design(), PAPER_BEST_DESIGN):
+    for design in (gridmod.canonical_design(), gridmod.PAPER_BEST_DESIGN):
         try:
             want.add(g.index_of(*design))
         except ValueError:  # not on this grid (a coarse test grid)
@@ -138,7 +137,7 @@ def build(run_dir: str | Path, out_dir: str | Path, *, positions_per_axis: int, 
 
 def _positions_of(model_dir: Path) -> int:
     """Positions per axis of a model's run, from its merged dataset's science record."""
-    sci = json.loads(store.open_merged(model_dir / "merged.zarr").attrs["science_json"])
+    sci = store.science_of(store.open_merged(model_dir / "merged.zarr"))
     return int(sci.get("grid", {}).get("positions_per_axis", sci.get("positions_per_axis")))
 
 

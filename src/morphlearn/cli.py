@@ -57,7 +57,6 @@ DEFAULT_MORPHOLOGY = "config/empirical_morphology.yaml"
 def _load_morphology(path: str) -> object:
     from pathlib import Path
 
-
     if not Path(path).is_file():
         raise UsageError(f"--morphology {path}: no such file (a YAML of body parameters)")
     with _c_stdout_to_stderr():

@@ -5,7 +5,8 @@ Each shard job writes every design it finishes as a one-design file in the shard
 does not own these files, so they outlive a shard's rerun: a shard job first reuses every design
 found there whose science digest and data checksum check out (:func:`store.verify_shard`), computes
 the rest, and assembles its shard file from both. Changing the shard count then recomputes
-nothing, and a killed empirical shard (hours) resumes from its last finished design.
+nothing, and a killed shard resumes from its last finished design (empirical) or batch of designs
+(theory: the kernel's batches, ~6 designs at paper resolution).
 
 Disk: the cache holds the same arrays as the shards (theory at paper resolution ~1.8 GB more);
 ``design_cache: false`` in the config turns it off.

@@ -125,6 +125,10 @@ def canonical_design() -> tuple[tuple[float, float], tuple[float, float]]:
     return (0.5, 0.5), (0.5, -0.5)
 
 
+#: The paper's best theory design by M_L (its mirror image ties with it).
+PAPER_BEST_DESIGN: tuple[tuple[float, float], tuple[float, float]] = ((-0.5, -0.25), (0.5, 0.25))
+
+
 def split_shards(designs: np.ndarray, n_shards: int) -> list[np.ndarray]:
     """Split a design list into ``n_shards`` contiguous, near-equal parts."""
     if n_shards < 1:

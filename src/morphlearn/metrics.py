@@ -120,3 +120,15 @@ def rank_designs(table: pd.DataFrame, by: str) -> pd.DataFrame:
     """Sorted best first by ``by``; ties broken by the other metric, then by design index."""
     other = "M_CF" if by == "M_L" else "M_L"
     return table.sort_values([by, other, "design"], ascending=[False, False, True], kind="stable")
+
+
+def find_row(table: pd.DataFrame, design: tuple[tuple[float, float], tuple[float, float]]) -> pd.Series | None:
+    """The row of a design given by its sensor coordinates, or None if the table has none."""
+    (a, b), (c, d) = design
+    hit = table[(table.l1x == a) & (table.l1y == b) & (table.l2x == c) & (table.l2y == d)]
+    return hit.iloc[0] if len(hit) else None
+
+
+def rank_of(table: pd.DataFrame, row: pd.Series, by: str) -> int:
+    """1 + the number of designs strictly better by ``by`` (ties share a rank)."""
+    return int((table[by] > row[by]).sum()) + 1

@@ -77,15 +77,11 @@ def evaluate_designs(
     done: Callable[[int, DesignResult], None] | None = None,
 ) -> list[DesignResult]:
     """Results of ``designs``, in order; ``done(i, result)`` is called as each one finishes (the
-    theory kernel finishes its designs together, the empirical model one by one)."""
+    theory kernel finishes its designs a batch at a time, the empirical model one by one)."""
     g = gridmod.DesignGrid(cfg["grid"]["positions_per_axis"])
     w = weights(cfg, model)
     if model == "theory":
-        out = evaluate(g.coords(designs), w, TheoryParams.from_config(cfg["theory"]), progress=True)
-        for i, r in enumerate(out):
-            if done:
-                done(i, r)
-        return out
+        return evaluate(g.coords(designs), w, TheoryParams.from_config(cfg["theory"]), progress=True, done=done)
     from tqdm import tqdm
 
     from morphlearn.empirical import evaluate_design
@@ -193,17 +189,12 @@ def _row(r: pd.Series) -> dict[str, Any]:
 
 def summarise(table: pd.DataFrame, top: int) -> dict[str, Any]:
     """Canonical design (with its rank by M_L), best designs by M_L and by M_CF."""
-    (c1, c2) = gridmod.canonical_design()
-    canon = table[(table.l1x == c1[0]) & (table.l1y == c1[1]) & (table.l2x == c2[0]) & (table.l2y == c2[1])]
+    c = metrics.find_row(table, gridmod.canonical_design())
     by_ml = metrics.rank_designs(table, "M_L")
     by_cf = metrics.rank_designs(table, "M_CF")
     out: dict[str, Any] = {"designs": len(table), "controllers": None}
-    if len(canon):
-        c = canon.iloc[0]
-        out["canonical"] = _row(c) | {
-            "rank_M_L": int((table.M_L > c.M_L).sum()) + 1,
-            "rank_M_CF": int((table.M_CF > c.M_CF).sum()) + 1,
-        }
+    if c is not None:
+        out["canonical"] = _row(c) | {f"rank_{m}": metrics.rank_of(table, c, m) for m in ("M_L", "M_CF")}
     out["top_M_L"] = [_row(r) for _, r in by_ml.head(top).iterrows()]
     out["top_M_CF"] = [_row(r) for _, r in by_cf.head(top).iterrows()]
     out["M_CF_eq_1"] = int((table.M_CF == 1.0).sum())

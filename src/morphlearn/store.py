@@ -351,6 +351,11 @@ def _arr(root: zarr.Group, name: str, values: np.ndarray, dims: tuple[str, ...])
     a[...] = values
 
 
+def science_of(ds: xr.Dataset) -> dict[str, Any]:
+    """The science config a shard or merged dataset was made with (its ``science_json``)."""
+    return json.loads(ds.attrs["science_json"])
+
+
 def open_merged(path: str | Path) -> xr.Dataset:
     """The merged dataset, lazily, with coordinates; status is not masked. Its digests' record and
     its coordinate arrays are verified here; read data with :func:`read_design` or

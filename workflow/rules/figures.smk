@@ -38,13 +38,14 @@ for _fig in FIGURES:
             "../../envs/figures.yaml"
         params:
             fig=_fig,
-            src=f"{workflow.basedir}/src",
             parameters=figure_parameters(_fig),
             # The rerun trigger: Snakemake does not compare params that are functions of input or
             # output (as `parameters` is), so the figure's options also go in as plain text.
             options=json.dumps(FIGURE_OPTIONS[_fig], sort_keys=True),
         shell:
-            "(export PYTHONPATH={params.src:q}${{PYTHONPATH:+:$PYTHONPATH}}; "
+            # the package of this checkout, relative (the workflow runs from its root): an absolute
+            # path would change, and re-render every figure, whenever the project is moved or copied
+            "(export PYTHONPATH=src${{PYTHONPATH:+:$PYTHONPATH}}; "
             "papermill {input.notebook:q} {log.notebook:q} -y {params.parameters:q} && "
             "jupyter nbconvert --to html --log-level WARN --output-dir $(dirname {output.html:q}) "
             "--output {params.fig} {log.notebook:q}) > {log.text:q} 2>&1"

@@ -38,7 +38,7 @@ MAX_PERSISTENCE_CONTROLLERS = 35
 PAPER_CANONICAL_CONTROLLERS: tuple[Point, ...] = ((0.6, 0.98), (0.77, 0.77))
 PAPER_BEST_CONTROLLERS: tuple[Point, ...] = ((-0.85, 0.82), (-0.8, 0.6), (-0.28, 0.37))
 #: The paper's best theory design (by M_L).
-PAPER_BEST_DESIGN: Design = ((-0.5, -0.25), (0.5, 0.25))
+PAPER_BEST_DESIGN: Design = gridmod.PAPER_BEST_DESIGN
 
 
 def design_label(l1: Sequence[float], l2: Sequence[float]) -> str:

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
 
@@ -71,9 +72,13 @@ def evaluate(
     progress: bool = False,
     batch_trajectories: int | None = None,
     return_steps: bool = False,
+    done: Callable[[int, DesignResult], None] | None = None,
 ) -> list[DesignResult] | tuple[list[DesignResult], np.ndarray]:
     """Evaluate designs given as coordinates (nd, 4) over envs x weights x weights on the backend
-    ``p.backend`` selects (CPU kernel, or CUDA kernel with one launch per batch)."""
+    ``p.backend`` selects (CPU kernel, or CUDA kernel with one launch per batch).
+
+    ``done(i, result)`` is called for each design as its batch finishes, so that a caller can save
+    finished designs while a long shard is still running (a killed shard loses one batch)."""
     backend = resolve_backend(p.backend)
     if backend == "cuda":
         from morphlearn.theory import cuda as kernel
@@ -95,7 +100,10 @@ def evaluate(
             horizon=p.horizon, method=p.method, rtol=p.rtol, atol=p.atol, dt=p.dt,
             max_steps=p.max_steps,
         )  # fmt: skip
-        out.extend(DesignResult(ft[i], dm[i], st[i]) for i in range(len(ft)))
+        for i in range(len(ft)):
+            out.append(DesignResult(ft[i], dm[i], st[i]))
+            if done:
+                done(len(out) - 1, out[-1])
         if return_steps:
             steps.append(n)
         bar.update(len(ft))

@@ -22,6 +22,7 @@ def missing(ax: Axes, text: str = MISSING_TEXT, title: str | None = None) -> Non
 
 
 def panel_letter(ax: Axes, letter: str) -> None:
-    ax.text(-0.02, 1.02, letter, transform=ax.transAxes, ha="right", va="bottom", fontsize=14,
+    # left of the axes, clear of a centred multi-line title as wide as the axes (Fig. 6)
+    ax.text(-0.08, 1.02, letter, transform=ax.transAxes, ha="right", va="bottom", fontsize=14,
             fontweight="bold")  # fmt: skip
 

@@ -1,0 +1,193 @@
+# Named scenarios (docs/scenarios.md; the science is morphlearn.scenarios). Included instead of
+# the main workflow when `scenarios` is set: simulations shared between scenarios under
+# {SR}/_sims/<science digest>/, one results folder per scenario, and their comparison.
+import re
+from dataclasses import asdict
+
+from morphlearn import scenarios as scenmod
+
+try:
+    _SCENARIO_FILE = scenmod.read_file(CFG["scenario_file"])
+    SCENARIO_NAMES = scenmod.select(_SCENARIO_FILE, CFG["scenarios"])
+    SCENARIOS = {s.name: s for s in scenmod.expand(CFG, _SCENARIO_FILE, SCENARIO_NAMES)}
+except cfgmod.ConfigError as err:
+    print(f"morphlearn: scenario error: {err}", file=sys.stderr)
+    sys.exit(2)
+PLAN = scenmod.plan(list(SCENARIOS.values()), R)
+SR = scenmod.scenarios_dir(CFG)
+SIM_SHARDS = {sid: pipeline.shard_designs(c, "theory") for sid, c in PLAN.sims.items()}
+SCENARIO_TARGETS = [
+    f"{SR}/comparison.md",
+    f"{SR}/comparison.png",
+    *(f"{SR}/{s}/summary.md" for s in SCENARIO_NAMES),
+]
+
+
+wildcard_constraints:
+    sim="[0-9a-f]{16}",
+    scenario="|".join(re.escape(s) for s in SCENARIO_NAMES),
+
+
+localrules:
+    scenario_merge,
+    scenario_metrics,
+    scenario_summary,
+    scenario_compare,
+    scenario_report,
+
+
+rule scenario_shard:
+    output:
+        f"{SR}/_sims/{{sim}}/shards/shard_{{shard}}.nc",
+    log:
+        f"{SR}/_sims/{{sim}}/logs/shard_{{shard}}.log",
+    benchmark:
+        f"{SR}/_sims/{{sim}}/benchmarks/shard_{{shard}}.tsv"
+    wildcard_constraints:
+        shard=r"\d+",
+    conda:
+        "../../envs/theory.yaml"
+    threads: CFG["sweep"]["threads"]
+    resources:
+        runtime=60,
+        mem_mb=2000,
+    params:
+        cfg=lambda w: PLAN.sims[w.sim],
+        designs=lambda w: cfgmod.digest(SIM_SHARDS[w.sim][int(w.shard)].tolist()),
+    script:
+        "../scripts/scenario_shard.py"
+
+
+rule scenario_merge:
+    input:
+        lambda w: expand(
+            f"{SR}/_sims/{w.sim}/shards/shard_{{shard}}.nc",
+            shard=range(len(SIM_SHARDS[w.sim])),
+        ),
+    output:
+        update(directory(f"{SR}/_sims/{{sim}}/merged.zarr")),
+    log:
+        f"{SR}/_sims/{{sim}}/logs/merge.log",
+    benchmark:
+        f"{SR}/_sims/{{sim}}/benchmarks/merge.tsv"
+    conda:
+        "../../envs/analysis.yaml"
+    params:
+        cfg=lambda w: PLAN.sims[w.sim],
+    script:
+        "../scripts/scenario_merge.py"
+
+
+rule scenario_metrics:
+    input:
+        lambda w: f"{SR}/_sims/{PLAN.answers[w.scenario].sim}/merged.zarr",
+    output:
+        table=f"{SR}/{{scenario}}/theory/metrics.csv",
+        record=f"{SR}/{{scenario}}/scenario.json",
+    log:
+        f"{SR}/{{scenario}}/logs/metrics.log",
+    benchmark:
+        f"{SR}/{{scenario}}/benchmarks/metrics.tsv"
+    conda:
+        "../../envs/analysis.yaml"
+    params:
+        cfg=lambda w: PLAN.metrics_config(w.scenario),
+        record=lambda w: {
+            "scenario": w.scenario,
+            "overrides": SCENARIOS[w.scenario].overrides,
+            "theory": SCENARIOS[w.scenario].cfg["theory"],
+            "answer": asdict(PLAN.answers[w.scenario]),
+            "simulated": PLAN.sims[PLAN.answers[w.scenario].sim]["theory"],
+        },
+    script:
+        "../scripts/scenario_metrics.py"
+
+
+rule scenario_summary:
+    input:
+        theory=f"{SR}/{{scenario}}/theory/metrics.csv",
+    output:
+        json=f"{SR}/{{scenario}}/summary.json",
+        md=f"{SR}/{{scenario}}/summary.md",
+    log:
+        f"{SR}/{{scenario}}/logs/summary.log",
+    benchmark:
+        f"{SR}/{{scenario}}/benchmarks/summary.tsv"
+    conda:
+        "../../envs/analysis.yaml"
+    params:
+        cfg=lambda w: SCENARIOS[w.scenario].cfg,
+    script:
+        "../scripts/scenario_summary.py"
+
+
+rule scenario_compare:
+    input:
+        tables=expand(f"{SR}/{{s}}/theory/metrics.csv", s=SCENARIO_NAMES),
+        merged=expand(f"{SR}/_sims/{{sim}}/merged.zarr", sim=sorted(PLAN.sims)),
+    output:
+        csv=f"{SR}/comparison.csv",
+        md=f"{SR}/comparison.md",
+        scan=f"{SR}/text_values.csv",
+    log:
+        f"{SR}/logs/compare.log",
+    benchmark:
+        f"{SR}/benchmarks/compare.tsv"
+    conda:
+        "../../envs/analysis.yaml"
+    params:
+        names=SCENARIO_NAMES,
+        sims=sorted(PLAN.sims),
+        top=CFG["analysis"]["top"],
+        plan=scenmod.plan_markdown(PLAN, list(SCENARIOS.values())),
+    script:
+        "../scripts/scenario_compare.py"
+
+
+rule scenario_report:
+    input:
+        notebook="notebooks/scenarios.ipynb",
+        style=figure_registry.STYLE,
+        code=figure_registry.notebook_modules("notebooks/scenarios.ipynb", "src"),
+        csv=f"{SR}/comparison.csv",
+        scan=f"{SR}/text_values.csv",
+    output:
+        png=report(
+            f"{SR}/comparison.png",
+            caption=str(Path(f"{SR}/comparison.caption.md").resolve()),
+            category="Scenarios",
+        ),
+        caption=f"{SR}/comparison.caption.md",
+        pdf=f"{SR}/comparison.pdf",
+        html=f"{SR}/comparison.html",
+    log:
+        notebook=f"{SR}/logs/comparison.ipynb",
+        text=f"{SR}/logs/comparison.log",
+    benchmark:
+        f"{SR}/benchmarks/report.tsv"
+    conda:
+        "../../envs/figures.yaml"
+    params:
+        parameters=lambda w, input, output: yaml.safe_dump(
+            {
+                "comparison": input.csv,
+                "scan": input.scan,
+                "style": input.style,
+                "png": output.png,
+                "pdf": output.pdf,
+                "caption": output.caption,
+            },
+            default_flow_style=True,
+            width=10**6,
+        ).strip(),
+    shell:
+        # relative, as the figures' (figures.smk): a moved project re-renders nothing
+        "(export PYTHONPATH=src${{PYTHONPATH:+:$PYTHONPATH}}; "
+        "papermill {input.notebook:q} {log.notebook:q} -y {params.parameters:q} && "
+        "jupyter nbconvert --to html --log-level WARN --output-dir $(dirname {output.html:q}) "
+        "--output comparison {log.notebook:q}) > {log.text:q} 2>&1"
+
+
+rule scenarios:
+    input:
+        SCENARIO_TARGETS,

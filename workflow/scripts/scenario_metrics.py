@@ -1,0 +1,15 @@
+"""Rule scenario_metrics: a scenario's metrics from its simulation at its own thresholds."""
+
+import sys
+from pathlib import Path
+
+sys.path.insert(0, str(Path(snakemake.scriptdir)))  # noqa: F821
+from _entry import setup
+
+setup(snakemake)  # noqa: F821
+from morphlearn import config as cfgmod  # noqa: E402
+from morphlearn import scenarios  # noqa: E402
+
+smk = snakemake  # noqa: F821
+cfg = cfgmod.validate(dict(smk.params.cfg))
+scenarios.run_metrics(cfg, smk.input[0], smk.output.table, dict(smk.params.record), smk.output.record)
