@@ -30,13 +30,14 @@ def test_learner_stage_runs_caches_and_reports(tmp_path: Path) -> None:
     beyond = table[table.key.str.startswith("learners_")]
     assert len(beyond) == 6 + 3 + 4 and (beyond.paper == BEYOND).all()  # rho M_L, rho M_CF, advantage
     assert "Do the metrics predict learning?" in (wd / "results/figures/learners.caption.md").read_text()
-    # A shard rerun (deleted output) reuses every design from the per-design cache.
-    (wd / "results/learners/shards/shard_0.csv").unlink()
-    before = (wd / "results/learners/runs.csv").read_bytes()
-    snakemake(wd, "results/learners/summary.md", *ARGS)
+    # A shard rerun (deleted output) reuses every design from the per-design cache. The shard is
+    # the target: Snakemake does not remake a missing intermediate file whose consumers are current.
+    shard = wd / "results/learners/shards/shard_0.csv"
+    before = shard.read_bytes()
+    shard.unlink()
+    snakemake(wd, "results/learners/shards/shard_0.csv", *ARGS)
     assert "reused 2, to run 0" in (wd / "results/logs/learners/shard_0.log").read_text()
-    assert (wd / "results/learners/runs.csv").read_bytes() == before  # deterministic
-    assert job_stats(snakemake(wd, "-n", "results/learners/summary.md", *ARGS).stdout) in ({}, {"all": 1})
+    assert shard.read_bytes() == before  # deterministic
 
 
 def test_bad_learner_config_stops_with_one_line(tmp_path: Path) -> None:
