@@ -3,6 +3,7 @@ analysis, its figure and its rows in the reproduction table; bad learner config 
 
 from __future__ import annotations
 
+import shutil
 from pathlib import Path
 
 import pandas as pd
@@ -11,15 +12,20 @@ from conftest import copy_workflow, job_stats, snakemake
 from morphlearn.figures.reproduction import BEYOND
 
 TINY = ("learners: {enabled: true, seeds: 2, budget: 4, cycles: 1, per_phase: 4, max_designs: 3, shards: 2, "
-        "threads: 1, bootstrap: 100}\nempirical: {enabled: false}\n")  # fmt: skip
+        "threads: 1, bootstrap: 100}\n")  # fmt: skip
 ARGS = ("--cores", "2", "--configfile", "config/smoke.yaml", "tiny_learners.yaml")
 
 
-def test_learner_stage_runs_caches_and_reports(tmp_path: Path) -> None:
-    wd = copy_workflow(tmp_path / "wd")
+def test_learner_stage_runs_caches_and_reports(smoke_run: Path, tmp_path: Path) -> None:
+    # Turning the stage on in a finished run adds the learner jobs and remakes the table only:
+    # nothing is simulated again and no other figure is redrawn.
+    wd = tmp_path / "wd"
+    shutil.copytree(smoke_run, wd, symlinks=True)
     (wd / "tiny_learners.yaml").write_text(TINY)
     targets = ("results/learners/summary.md", "results/figures/learners.png", "results/reproduction.md")
-    snakemake(wd, *targets, *ARGS)
+    proc = snakemake(wd, *targets, *ARGS)
+    ran = job_stats(proc.stdout + proc.stderr)
+    assert set(ran) == {"learners_shard", "learners_analysis", "figure_learners", "reproduction"}, ran
     runs = pd.read_csv(wd / "results/learners/runs.csv")
     assert runs.design.nunique() == 3 and len(runs) == 3 * 3 * 2  # designs x learners x protocols
     assert runs.p_generalist.between(0, 1).all() and runs.M_L.notna().all()
