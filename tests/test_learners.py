@@ -130,3 +130,20 @@ def test_config_refuses_more_learner_shards_than_designs() -> None:
         _cfg(max_designs=3, shards=9)
     with pytest.raises(config.ConfigError, match=r"learners"):
         _cfg(learners=["sgd"])
+
+
+def test_correlation_among_positive_metric_designs_ignores_the_zero_tie() -> None:
+    # 40 designs with M_L = 0 that no learner solves, 40 with M_L > 0 whose success is unrelated to
+    # M_L: the whole-table rho is large (the zero tie), the rho among M_L > 0 is not.
+    import pandas as pd
+
+    from morphlearn.learners import stats
+
+    rng = np.random.default_rng(1)
+    ml = np.r_[np.zeros(40), rng.uniform(0.01, 0.3, 40)]
+    p = np.r_[np.zeros(40), rng.uniform(0.2, 1.0, 40)]
+    runs = pd.DataFrame({"design": np.arange(80), "learner": "random", "protocol": "joint", "p_generalist": p})
+    metrics_table = pd.DataFrame({"design": np.arange(80), "M_L": ml, "M_CF": ml})
+    row = stats.correlations(runs, metrics_table, n_boot=500, seed=0).iloc[0]
+    assert row.rho_ML_success > 0.7 and row.designs_ML_pos == 40
+    assert row.rho_ML_success_pos_lo < 0 < row.rho_ML_success_pos_hi  # no relation among M_L > 0

@@ -159,6 +159,11 @@ def _ci(r: pd.Series, key: str) -> str:
     return f"{v:+.3f} [{r[key + '_lo']:+.3f}, {r[key + '_hi']:+.3f}]"
 
 
+def _pos(r: pd.Series, key: str, n_key: str) -> str:
+    n = r.get(n_key)
+    return "n/a" if n is None or pd.isna(n) else f"{_ci(r, key)} (n = {int(n)})"
+
+
 def summary_markdown(corr: pd.DataFrame, s: cfgmod.LearnerSettings, n_designs: int) -> str:
     lines = [
         "# Learners on the theory model (beyond the paper)", "",
@@ -166,13 +171,15 @@ def summary_markdown(corr: pd.DataFrame, s: cfgmod.LearnerSettings, n_designs: i
         f"protocol; joint budget {s.budget} evaluations (x 4 environments), sequential {s.cycles} "
         f"cycles x 4 environments x {s.per_phase} evaluations. Spearman rho with 95 % bootstrap "
         f"intervals over designs ({s.bootstrap} resamples).", "",
-        "| learner | protocol | mean P(generalist) | rho(M_L, P(generalist)) | rho(M_CF, 1 - forgetting) "
-        "| mean forgetting rate | P(generalist) - random |",
-        "|---|---|---|---|---|---|---|",
+        "| learner | protocol | mean P(generalist) | rho(M_L, P(generalist)) | same, M_L > 0 "
+        "| rho(M_CF, 1 - forgetting) | same, M_CF > 0 | mean forgetting rate | P(generalist) - random |",
+        "|---|---|---|---|---|---|---|---|---|",
     ]  # fmt: skip
     for _, r in corr.iterrows():
         fr = r.get("mean_forgetting_rate")
         lines.append(f"| {r.learner} | {r.protocol} | {r.mean_p_generalist:.3f} | {_ci(r, 'rho_ML_success')} | "
-                     f"{_ci(r, 'rho_MCF_retention')} | {'n/a' if fr is None or pd.isna(fr) else f'{fr:.3f}'} | "
+                     f"{_ci(r, 'rho_ML_success_pos')} (n = {int(r.designs_ML_pos)}) | "
+                     f"{_ci(r, 'rho_MCF_retention')} | {_pos(r, 'rho_MCF_retention_pos', 'designs_MCF_pos')} | "
+                     f"{'n/a' if fr is None or pd.isna(fr) else f'{fr:.3f}'} | "
                      f"{_ci(r, 'advantage_vs_random')} |")  # fmt: skip
     return "\n".join(lines) + "\n"

@@ -89,11 +89,22 @@ def correlations(runs: pd.DataFrame, metrics: pd.DataFrame, *, n_boot: int, seed
         row = {"learner": learner, "protocol": protocol, "designs": len(g),
                "mean_p_generalist": float(g.p_generalist.mean()),
                "rho_ML_success": rho, "rho_ML_success_lo": lo, "rho_ML_success_hi": hi}  # fmt: skip
+        # The same among designs with M_L > 0 only: designs without a generalist on the grid are
+        # one large tie at M_L = 0 (and rarely learnable), which alone can make rho large.
+        pos = ml > 0
+        rho, lo, hi, n = spearman_ci(ml[pos], g.p_generalist.to_numpy()[pos], n_boot=n_boot, seed=seed)
+        row |= {"rho_ML_success_pos": rho, "rho_ML_success_pos_lo": lo, "rho_ML_success_pos_hi": hi,
+                "designs_ML_pos": n}  # fmt: skip
         if protocol == "sequential":
-            rho, lo, hi, n = spearman_ci(mcf, 1.0 - g.forgetting_rate.to_numpy(), n_boot=n_boot, seed=seed)
+            retention = 1.0 - g.forgetting_rate.to_numpy()
+            rho, lo, hi, n = spearman_ci(mcf, retention, n_boot=n_boot, seed=seed)
             row |= {"rho_MCF_retention": rho, "rho_MCF_retention_lo": lo, "rho_MCF_retention_hi": hi,
                     "designs_with_forgetting_data": n,
                     "mean_forgetting_rate": float(g.forgetting_rate.mean())}  # fmt: skip
+            pos = mcf > 0
+            rho, lo, hi, n = spearman_ci(mcf[pos], retention[pos], n_boot=n_boot, seed=seed)
+            row |= {"rho_MCF_retention_pos": rho, "rho_MCF_retention_pos_lo": lo,
+                    "rho_MCF_retention_pos_hi": hi, "designs_MCF_pos": n}  # fmt: skip
         base = runs[(runs.learner == "random") & (runs.protocol == protocol)].set_index("design")
         if len(base) and learner != "random":
             common = g.index.intersection(base.index)
