@@ -18,7 +18,7 @@ import numpy as np
 import pandas as pd
 
 from morphlearn import config as cfgmod
-from morphlearn import store
+from morphlearn import design_cache, store
 from morphlearn.grid import DesignGrid, split_shards
 
 if TYPE_CHECKING:
@@ -76,10 +76,6 @@ def run_designs(cfg: dict[str, Any], design_ids: np.ndarray) -> pd.DataFrame:
     return pd.DataFrame(rows, columns=list(stats.COLUMNS))
 
 
-def cache_dir(cfg: dict[str, Any]) -> Path:
-    return Path(cfg["results_dir"]) / "learners" / "designs" / cfgmod.digest(cfgmod.learner_science(cfg))[:16]
-
-
 def _cached(path: Path, science: dict[str, Any]) -> pd.DataFrame | None:
     """A cached design's rows, if the file is whole and was made by the same science."""
     from morphlearn.learners import stats
@@ -99,7 +95,7 @@ def run_shard(cfg: dict[str, Any], shard: int, out: str | Path) -> None:
     s = cfgmod.LearnerSettings.from_config(cfg)
     science = cfgmod.learner_science(cfg)
     mine = shards(cfg)[shard]
-    folder = cache_dir(cfg) if cfg.get("design_cache", True) else None
+    folder = design_cache.cache_dir(cfg["results_dir"], "learners", science) if cfg.get("design_cache", True) else None
     done: dict[int, pd.DataFrame] = {}
     if folder:
         folder.mkdir(parents=True, exist_ok=True)
