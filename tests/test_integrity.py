@@ -227,6 +227,7 @@ CONFIG_PROBES = [
     ({"theory": {"r": float("nan")}}, "theory.r = nan is not a finite number"),
     ({"theory": {"horizon": float("inf")}}, "theory.horizon = inf"),
     ({"theory": {"dt": float("-inf")}}, "theory.dt = -inf"),
+    ({"theory": {"integrator": "rk4"}}, "theory.max_steps = 10000 is below the 50000 steps"),
     ({"analysis": {"success_radius": float("nan")}}, "analysis.success_radius = nan"),
     ({"analysis": {"success_radius": 0.1}}, "analysis.success_radius = 0.1 is below theory.success_radius"),
     ({"analysis": {"success_radius": 0.5, "horizon": 100}}, "analysis.horizon = 100 with"),
@@ -276,9 +277,11 @@ def test_probe_bad_inputs_refused_cleanly(tmp_path: Path, capsys: pytest.Capture
 def test_cli_accepts_exponent_negative_numbers_and_json_has_flagged(capsys: pytest.CaptureFixture) -> None:
     assert cli.main(["design", "--l1", "-5e-1", "0.5", "--l2", "0.5", "-0.5", "--weights", "3", "--json"]) == 0
     out = json.loads(capsys.readouterr().out)
-    assert out["flagged"] == 0
-    # A step far too small for the horizon: every trajectory hits max_steps and is flagged.
-    assert cli.main(["design", "--l1", "0", "0", "--l2", "0", "0", "--weights", "2", "--dt", "1e-9",
-                     "--json"]) == 0  # fmt: skip
+    assert out["per_env"] and isinstance(out["flagged"], int)  # "-5e-1" parsed as a number
+    # l2 = (0, -0.5): singular trajectories (docs/model.md) are stopped and counted in "flagged".
+    assert cli.main(["design", "--l1", "0.5", "0.5", "--l2", "0", "-0.5", "--weights", "11", "--json"]) == 0
     out = json.loads(capsys.readouterr().out)
-    assert out["flagged"] == 16 and out["M_L"] == 0
+    assert out["flagged"] > 0
+    # RK4 follows its step count (horizon / dt), and a step far too small for any run is refused.
+    assert cli.main(["design", "--l1", "0", "0", "--l2", "0", "0", "--weights", "2", "--dt", "1e-9"]) == 2
+    assert "allowed: --dt >= 5e-05" in capsys.readouterr().err

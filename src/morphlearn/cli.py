@@ -5,6 +5,7 @@ from __future__ import annotations
 import argparse
 import ctypes
 import json
+import math
 import os
 import re
 import sys
@@ -30,6 +31,10 @@ def _c_stdout_to_stderr() -> Iterator[None]:
         ctypes.CDLL(None).fflush(None)  # C stdio buffers, before fd 1 is restored
         os.dup2(saved, 1)
         os.close(saved)
+
+
+#: Most fixed RK4 steps per trajectory the CLI takes (10^7: tens of seconds per trajectory).
+MAX_RK4_STEPS = 10_000_000
 
 
 class UsageError(ValueError):
@@ -88,12 +93,19 @@ def cmd_design(a: argparse.Namespace) -> int:
     if a.model == "theory":
         from morphlearn.theory import TheoryParams, evaluate
 
+        horizon = a.horizon if a.horizon is not None else 500.0
+        # RK4 takes horizon / dt steps: the step cap (meant for the adaptive integrator) follows.
+        steps = TheoryParams.max_steps if a.dt is None else max(TheoryParams.max_steps, math.ceil(horizon / a.dt))
+        if steps > MAX_RK4_STEPS:
+            raise UsageError(f"--dt {a.dt} needs {steps} RK4 steps per trajectory over the horizon {horizon}; "
+                             f"allowed: --dt >= {horizon / MAX_RK4_STEPS:g}")  # fmt: skip
         p = TheoryParams(
             r=a.r if a.r is not None else 4.0,
-            horizon=a.horizon if a.horizon is not None else 500.0,
+            horizon=horizon,
             success_radius=0.2,
             integrator="rk4" if a.dt is not None else "dp5",
             dt=a.dt if a.dt is not None else 0.01,
+            max_steps=steps,
         )
         res = evaluate(np.array([[*l1, *l2]]), w, p, progress=not a.json)[0]
     else:

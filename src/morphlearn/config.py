@@ -131,6 +131,10 @@ def _check_analysis(a: dict[str, Any], th: dict[str, Any]) -> None:
     if th["success_radius"] >= th["r"]:
         raise ConfigError(f"theory.success_radius = {th['success_radius']} is not below theory.r = "
                           f"{th['r']}; allowed: < {th['r']} (the robot would start inside the light)")  # fmt: skip
+    need = math.ceil(th["horizon"] / th["dt"])
+    if th["integrator"] == "rk4" and th["max_steps"] < need:  # the cap would cut every trajectory short
+        raise ConfigError(f"theory.max_steps = {th['max_steps']} is below the {need} steps that theory.integrator "
+                          f"= rk4 takes (horizon / dt); allowed: max_steps >= {need}, or a larger dt")  # fmt: skip
 
 
 def _check_cross(cfg: dict[str, Any]) -> None:

@@ -23,7 +23,7 @@ class TheoryParams:
     rtol: float = 1e-8
     atol: float = 1e-8
     dt: float = 0.01
-    max_steps: int = 100_000
+    max_steps: int = 10_000
     #: Kernel backend: ``cpu``, ``cuda`` or ``auto`` (CUDA when numba sees a GPU). Not part of the
     #: science digest: both kernels compute the same model (see ``resolve_backend``).
     backend: str = "cpu"
