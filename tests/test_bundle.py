@@ -14,7 +14,6 @@ from conftest import copy_workflow, job_stats, snakemake
 
 from morphlearn import bundle, cli, metrics, store
 from morphlearn import grid as gridmod
-from morphlearn.theory import TheoryParams, evaluate
 
 
 @pytest.fixture(scope="module")
@@ -23,10 +22,6 @@ def smoke_bundle(smoke_run: Path) -> Path:
     snakemake(smoke_run, "bundle", "--cores", "1", "--configfile", "config/smoke.yaml", "--config",
               "bundle_dir=results/bundle")  # fmt: skip
     return smoke_run / "results" / "bundle"
-
-
-def _science(b: Path) -> dict:
-    return json.loads(store.open_merged(b / "theory/merged.zarr").attrs["science_json"])
 
 
 def test_bundle_holds_what_the_figures_draw(smoke_bundle: Path, smoke_run: Path) -> None:
@@ -45,6 +40,11 @@ def test_bundle_holds_what_the_figures_draw(smoke_bundle: Path, smoke_run: Path)
     assert sub["design"].values.tolist() == held
     for v in store.VARS:  # the subset's arrays are the full run's, bit for bit
         np.testing.assert_array_equal(sub[v].values, full[v].sel(design=held).values)
+    cost = pd.read_csv(smoke_bundle / bundle.COST)  # what each job of the run cost
+    bench = smoke_run / "results/benchmarks"
+    ran = {str(p.relative_to(bench))[:-4] for p in bench.rglob("*.tsv")}  # (other tests add jobs)
+    assert {f"theory/shard_{i}" for i in range(3)} | {"theory/metrics"} <= set(cost.job) <= ran
+    assert (cost.cpu_s > 0).all() and "| theory/shard |" in (smoke_bundle / "README.md").read_text()
     for name in ("summary.md", "reproduction.csv", "figures/fig6.png", "figures/fig6.caption.md"):
         assert (smoke_bundle / name).read_bytes() == (smoke_run / "results" / name).read_bytes()
 
@@ -68,28 +68,25 @@ def test_check_notices_damage(smoke_bundle: Path, tmp_path: Path) -> None:
     assert cli.main(["check-bundle", str(tmp_path / "nowhere")]) == 2
 
 
-@pytest.mark.parametrize("which", ["canonical", "best_M_L"])
-def test_resimulated_design_matches_bundle(smoke_bundle: Path, which: str) -> None:
-    """Re-simulate a bundled design from its recorded science: the same row, the same arrays."""
-    table = pd.read_csv(smoke_bundle / "theory/metrics.csv")
-    sci = _science(smoke_bundle)
-    g = gridmod.DesignGrid(sci["grid"]["positions_per_axis"])
-    if which == "canonical":
-        d = g.index_of(*gridmod.canonical_design())
-    else:
-        d = int(metrics.rank_designs(table, "M_L").design.iloc[0])
-    params = TheoryParams.from_config(sci["theory"])
-    res = evaluate(g.coords(np.array([d])), gridmod.weights(sci["grid"]["weights"]), params)[0]
-    th = metrics.Thresholds(params.horizon, params.success_radius, params.horizon, params.success_radius)
-    dm = metrics.design_metrics(metrics.success(res.first_time, res.min_dist, th), res.status)
-    row = table[table.design == d].iloc[0]
-    assert [int(row[f"n_{a}"]) for a in gridmod.ENV_ANGLES_DEG] == dm.per_env
-    assert (int(row.generalists), int(row.at_least_one), int(row.flagged)) == (
-        dm.generalists, dm.at_least_one, dm.flagged)  # fmt: skip
-    assert (row.M_L, row.M_CF) == pytest.approx((dm.M_L, dm.M_CF), rel=1e-12)
-    stored = store.open_merged(smoke_bundle / "theory/merged.zarr").sel(design=d)
-    for v in store.VARS:
-        np.testing.assert_array_equal(stored[v].values, getattr(res, v), err_msg=v)
+def test_resimulated_designs_match_bundle(smoke_bundle: Path, tmp_path: Path) -> None:
+    """Re-simulate bundled designs from their recorded science: the same rows, the same arrays;
+    an edited metrics row is noticed."""
+    assert bundle.resimulate(smoke_bundle, ["canonical", "best_M_L", "best_M_CF"]) == []
+    copy = tmp_path / "bundle"
+    shutil.copytree(smoke_bundle, copy)
+    table = pd.read_csv(copy / "theory/metrics.csv")
+    d = int(metrics.rank_designs(table, "M_L").design.iloc[0])
+    table.loc[table.design == d, "n_45"] += 1
+    table.to_csv(copy / "theory/metrics.csv", index=False, float_format="%.10g")
+    problems = bundle.resimulate(copy, [str(d)])
+    assert len(problems) == 1 and problems[0].startswith(f"design {d}: metrics row"), problems
+    held = set(json.loads((copy / bundle.MANIFEST).read_text())["subsets"]["theory"]["designs"])
+    absent = min(set(table.design) - held)
+    assert bundle.resimulate(copy, [str(absent)]) == [f"design {absent}: not held in {copy}/theory/merged.zarr"]
+    with pytest.raises(bundle.BundleError, match="allowed: canonical"):
+        bundle.resimulate(copy, ["best"])
+    assert cli.main(["check-bundle", str(smoke_bundle), "--resimulate", "canonical"]) == 0
+    assert cli.main(["check-bundle", str(copy), "--resimulate", str(d)]) == 1
 
 
 def test_render_from_bundle_alone(smoke_bundle: Path, tmp_path: Path) -> None:

@@ -46,6 +46,9 @@ MODEL_FILES = ("metrics.csv", "metrics.provenance.json")
 #: Per figure (the executed notebook's HTML is left out: it is large and re-rendered on demand).
 FIGURE_SUFFIXES = (".png", ".pdf", ".caption.md")
 MANIFEST = "bundle.json"
+#: What the run cost, per job, from its rules' benchmark files (measured times: unlike the
+#: results, these differ from run to run).
+COST = "run_cost.csv"
 
 
 class BundleError(ValueError):
@@ -118,6 +121,9 @@ def build(run_dir: str | Path, out_dir: str | Path, *, positions_per_axis: int, 
             if (run_dir / "learners" / name).is_file():
                 (tmp / "learners").mkdir(exist_ok=True)
                 shutil.copy2(run_dir / "learners" / name, tmp / "learners" / name)
+        cost = run_cost(run_dir)
+        if len(cost):
+            cost.to_csv(tmp / COST, index=False, float_format="%.2f")
         figs = sorted(p for p in (run_dir / "figures").glob("*") if p.name.endswith(FIGURE_SUFFIXES))
         if figs:
             (tmp / "figures").mkdir()
@@ -133,6 +139,88 @@ def build(run_dir: str | Path, out_dir: str | Path, *, positions_per_axis: int, 
         manifest["files"] = dict(sorted(manifest["files"].items()))
         (tmp / MANIFEST).write_text(json.dumps(manifest, indent=1, sort_keys=True) + "\n")
     return manifest
+
+
+def resimulate(out_dir: str | Path, which: Iterable[str] = ("canonical", "best_M_L")) -> list[str]:
+    """Re-simulate theory designs of a bundle from its recorded science and compare with it.
+
+    ``which``: ``canonical``, ``best_M_L``, ``best_M_CF`` or a design index. Each design's
+    metrics row (counts per environment, generalists, flagged) and its stored outcome arrays must
+    come out exactly; the problems found are returned (empty: every design agrees). The
+    thresholds are the ones the bundle's metrics were computed with (its provenance record).
+    """
+    from morphlearn.theory import TheoryParams, evaluate
+
+    out_dir = Path(out_dir)
+    merged = store.open_merged(out_dir / "theory" / "merged.zarr")
+    sci = store.science_of(merged)
+    table = pd.read_csv(out_dir / "theory" / "metrics.csv")
+    prov = json.loads((out_dir / "theory" / "metrics.provenance.json").read_text())
+    th = metrics.Thresholds(**prov["config"]["thresholds"])
+    g = gridmod.DesignGrid(sci["grid"]["positions_per_axis"])
+    params = TheoryParams.from_config(sci["theory"])
+    wanted = [_design_of(w, table, g) for w in which]
+    held = set(int(d) for d in merged["design"].values)
+    problems = [f"design {d}: not held in {out_dir}/theory/merged.zarr" for d in wanted if d not in held]
+    todo = [d for d in wanted if d in held]
+    if not todo:
+        return problems
+    results = evaluate(g.coords(np.array(todo)), gridmod.weights(sci["grid"]["weights"]), params)
+    for d, res in zip(todo, results, strict=True):
+        dm = metrics.design_metrics(metrics.success(res.first_time, res.min_dist, th), res.status)
+        row = table[table.design == d].iloc[0]
+        stored = [*(int(row[f"n_{a}"]) for a in gridmod.ENV_ANGLES_DEG), int(row.generalists),
+                  int(row.at_least_one), int(row.flagged)]  # fmt: skip
+        fresh = [*dm.per_env, dm.generalists, dm.at_least_one, dm.flagged]
+        if stored != fresh:
+            problems.append(f"design {d}: metrics row {stored} (per env, generalists, at least one, "
+                            f"flagged) but re-simulated {fresh}")  # fmt: skip
+        one = store.read_design(merged, list(merged["design"].values).index(d))
+        for v in store.VARS:
+            a, b = one[v], getattr(res, v)
+            differ = a != b
+            if a.dtype.kind == "f":  # NaN (never succeeded) equals NaN here
+                differ &= ~(np.isnan(a) & np.isnan(b))
+            if differ.any():
+                problems.append(f"design {d}: stored {v} differs from the re-simulation in "
+                                f"{int(differ.sum())} cells")  # fmt: skip
+    return problems
+
+
+def _design_of(which: str, table: pd.DataFrame, g: gridmod.DesignGrid) -> int:
+    if which == "canonical":
+        return g.index_of(*gridmod.canonical_design())
+    if which in ("best_M_L", "best_M_CF"):
+        return int(metrics.rank_designs(table, which.removeprefix("best_")).design.iloc[0])
+    if which.isdigit():
+        return int(which)
+    raise BundleError(f"re-simulate {which!r}: allowed: canonical, best_M_L, best_M_CF or a design index")
+
+
+def run_cost(run_dir: str | Path) -> pd.DataFrame:
+    """One row per job of the run that has a benchmark file (Snakemake's ``benchmark:``):
+    job (its benchmark path without ``.tsv``), wall seconds, CPU seconds, peak memory (MB)."""
+    rows = []
+    bench = Path(run_dir) / "benchmarks"
+    for p in sorted(bench.rglob("*.tsv")):
+        t = pd.read_csv(p, sep="\t")
+        if len(t):
+            rows.append({"job": str(p.relative_to(bench).with_suffix("")), "wall_s": float(t.s.iloc[-1]),
+                         "cpu_s": float(t.cpu_time.iloc[-1]), "max_rss_mb": float(t.max_rss.iloc[-1])})  # fmt: skip
+    return pd.DataFrame(rows, columns=["job", "wall_s", "cpu_s", "max_rss_mb"])
+
+
+def cost_lines(cost: pd.DataFrame) -> list[str]:
+    """Markdown lines: wall and CPU time of the run by stage (the job path less its number:
+    ``theory/shard_3`` -> ``theory/shard``, ``figures/fig1`` -> ``figures/fig``)."""
+    if not len(cost):
+        return []
+    g = cost.assign(stage=cost.job.str.replace(r"_?\d+$", "", regex=True)).groupby("stage", sort=True)
+    lines = ["| stage | jobs | wall s (sum) | CPU s (sum) |", "|---|---|---|---|"]
+    for name, t in g:
+        lines.append(f"| {name} | {len(t)} | {t.wall_s.sum():,.0f} | {t.cpu_s.sum():,.0f} |")
+    lines.append(f"| all | {len(cost)} | {cost.wall_s.sum():,.0f} | {cost.cpu_s.sum():,.0f} |")
+    return lines
 
 
 def _positions_of(model_dir: Path) -> int:
@@ -192,12 +280,17 @@ def readme(manifest: dict[str, Any], run_dir: Path) -> str:
         "| `summary.{json,md}` | canonical design and its rank, top designs |",
         "| `reproduction.{csv,md,html}`, `persistence.csv` | the paper's numbers beside ours |",
         "| `figures/figN.{png,pdf,caption.md}` | the seven figures and their captions |",
+        f"| `{COST}` | each job's wall and CPU seconds and peak memory (its benchmark file) |",
         "",
         "Designs held in the subsets:",
         "",
     ]
     for model, s in sub.items():
         lines.append(f"- {model}: {len(s['designs'])} of {s['of']} designs: {s['designs']}")
+    cost_path = run_dir / "benchmarks"
+    if cost_path.is_dir():
+        lines += ["", "What the run cost (sums of the jobs' benchmark files; wall seconds add up jobs that "
+                  "ran side by side):", "", *cost_lines(run_cost(run_dir))]  # fmt: skip
     lines += [
         "",
         "Left out (regenerate with the command above; the shards take the CPU time stated in",

@@ -149,6 +149,15 @@ def cmd_check_bundle(a: argparse.Namespace) -> int:
         print(line)
     if not problems:
         print(f"{a.bundle}: every file listed in {bundle.MANIFEST} is present and unchanged")
+    if a.resimulate:
+        print(f"re-simulating {', '.join(a.resimulate)} (theory model, the bundle's recorded science)",
+              flush=True)  # fmt: skip
+        again = bundle.resimulate(a.bundle, a.resimulate)
+        for line in again:
+            print(line)
+        if not again:
+            print(f"{a.bundle}: re-simulated designs agree exactly with the stored rows and arrays")
+        problems += again
     return 1 if problems else 0
 
 
@@ -193,6 +202,9 @@ def build_parser() -> argparse.ArgumentParser:
     v.set_defaults(func=cmd_verify)
     b = sub.add_parser("check-bundle", help="compare a results bundle's files with its bundle.json")
     b.add_argument("bundle", metavar="DIR", help="the bundle folder (e.g. results/paper)")
+    b.add_argument("--resimulate", nargs="+", metavar="WHICH", default=[],
+                   help="also re-simulate these theory designs and compare them exactly: canonical, "
+                        "best_M_L, best_M_CF or design indices (paper resolution: ~10 s each)")  # fmt: skip
     b.set_defaults(func=cmd_check_bundle)
     for parser in (p, d, v):  # argparse takes '-5e-1' for an option: accept every negative number
         parser._negative_number_matcher = _NEGATIVE_NUMBER

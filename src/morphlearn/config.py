@@ -190,14 +190,29 @@ def _check_empirical(cfg: dict[str, Any], g: Any) -> None:
                 g.index_of(tuple(l1), tuple(l2))
             except ValueError as e:
                 raise ConfigError(f"empirical.designs.{i}: {e}") from None
-    n = len(empirical_designs(cfg))
+    if emp["mirror_derive"] and designs != "all" and not emp["include_mirrors"]:
+        raise ConfigError("empirical.mirror_derive = true needs the mirror images in the results; "
+                          "allowed: empirical.include_mirrors = true or empirical.designs = all")  # fmt: skip
+    n = len(empirical_simulated(cfg))
     if emp["shards"] > n:
         raise ConfigError(f"empirical.shards = {emp['shards']} exceeds the {n} designs simulated; "
                           f"allowed: 1..{n}")  # fmt: skip
 
 
+def empirical_simulated(cfg: dict[str, Any]) -> list[int]:
+    """Sorted design indices the empirical sweep simulates: all of :func:`empirical_designs`, or
+    with ``mirror_derive`` one of each mirror pair (the smaller index), the other derived."""
+    designs = empirical_designs(cfg)
+    if not cfg["empirical"]["mirror_derive"]:
+        return designs
+    from morphlearn.grid import DesignGrid
+
+    g = DesignGrid(cfg["grid"]["positions_per_axis"])
+    return sorted({min(d, int(g.mirror(d))) for d in designs})
+
+
 def empirical_designs(cfg: dict[str, Any]) -> list[int]:
-    """Sorted design indices the empirical sweep simulates."""
+    """Sorted design indices the empirical results hold."""
     import numpy as np
 
     from morphlearn.grid import DesignGrid
@@ -259,6 +274,8 @@ def empirical_science(cfg: dict[str, Any], morphology: dict[str, Any]) -> dict[s
         "weights": emp["weights"],
         "designs": empirical_designs(cfg),
         "params": {**morphology, **emp.get("params", {})},
+        # only when on, so that the digests of results made before the option existed still hold
+        **({"mirror_derive": True} if emp.get("mirror_derive") else {}),
     }
 
 

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import time
 from collections.abc import Callable
 from pathlib import Path
 from typing import Any
@@ -35,7 +36,7 @@ def models(cfg: dict[str, Any]) -> list[str]:
 
 def designs_to_evaluate(cfg: dict[str, Any], model: str = "theory") -> np.ndarray:
     if model == "empirical":
-        return np.array(cfgmod.empirical_designs(cfg), dtype=np.int64)
+        return np.array(cfgmod.empirical_simulated(cfg), dtype=np.int64)
     g = gridmod.DesignGrid(cfg["grid"]["positions_per_axis"])
     return g.representatives() if cfg["sweep"]["mirror_symmetry"] else np.arange(g.size)
 
@@ -68,8 +69,11 @@ def science(cfg: dict[str, Any], model: str) -> dict[str, Any]:
 
 
 def mirror_derived(cfg: dict[str, Any], model: str) -> bool:
-    """Theory mirror images are derived (exact); empirical ones are simulated."""
-    return model == "theory" and cfg["sweep"]["mirror_symmetry"]
+    """Theory mirror images are derived (exact); empirical ones are simulated unless
+    ``empirical.mirror_derive`` (Bullet is symmetric only to solver tolerance)."""
+    if model == "empirical":
+        return bool(cfg["empirical"]["mirror_derive"])
+    return cfg["sweep"]["mirror_symmetry"]
 
 
 def evaluate_designs(
@@ -89,10 +93,30 @@ def evaluate_designs(
     params = empirical_params(cfg)
     out = []
     for i, c in enumerate(tqdm(g.coords(designs), unit="design", mininterval=1.0)):
-        out.append(evaluate_design((c[0], c[1]), (c[2], c[3]), w, params))
+        log = EpisodeProgress(f"design {int(designs[i])} ({i + 1}/{len(designs)})")
+        out.append(evaluate_design((c[0], c[1]), (c[2], c[3]), w, params, progress=log))
         if done:
             done(i, out[-1])
     return out
+
+
+class EpisodeProgress:
+    """Episode-level progress lines for a shard log: one line at most every ``every_s`` seconds
+    and one at the end of the design (a paper-resolution empirical design runs 58,564 episodes,
+    hours of one core, so a per-design line alone would leave the log silent for hours)."""
+
+    def __init__(self, label: str, every_s: float = 30.0, clock: Callable[[], float] = time.monotonic) -> None:
+        self.label, self.every_s, self.clock = label, every_s, clock
+        self.start = self.last = clock()
+
+    def __call__(self, done: int, total: int) -> None:
+        now = self.clock()
+        if now - self.last < self.every_s and done < total:
+            return
+        self.last = now
+        rate = (now - self.start) / done
+        left = f", ~{rate * (total - done):.0f} s left in this design" if done < total else ""
+        print(f"{self.label}: {done}/{total} episodes, {rate:.3f} s each{left}", flush=True)
 
 
 def run_shard(cfg: dict[str, Any], model: str, shard: int, out: str | Path) -> None:

@@ -41,7 +41,9 @@ def science_summary(res: ModelResults) -> str:
                 f"{th.get('success_radius')}, integrator {th.get('integrator')} ({tol}), step cap "
                 f"{th.get('max_steps')}, mirror symmetry {sci.get('mirror_symmetry')}")  # fmt: skip
     pr = sci.get("params", {})
-    return (f"{res.n_designs} designs simulated on the {sci.get('positions_per_axis')}-point grid, "
+    how = ("one of each mirror pair simulated, the other derived" if sci.get("mirror_derive")
+           else "simulated")  # fmt: skip
+    return (f"{res.n_designs} designs {how} on the {sci.get('positions_per_axis')}-point grid, "
             f"{m} weights per synapse; light distance {pr.get('light_distance', float('nan')):.4g}, "
             f"{pr.get('steps')} steps of dt = {pr.get('dt')}, success = touching the light; body "
             f"from the committed morphology (wheel radius {pr.get('wheel_radius', float('nan')):.4g})")  # fmt: skip
