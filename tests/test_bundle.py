@@ -31,6 +31,7 @@ def test_bundle_holds_what_the_figures_draw(smoke_bundle: Path, smoke_run: Path)
     table = pd.read_csv(smoke_bundle / "theory/metrics.csv")
     pd.testing.assert_frame_equal(table, pd.read_csv(smoke_run / "results/theory/metrics.csv"))
     held = manifest["subsets"]["theory"]["designs"]
+    assert manifest["subsets"]["theory"]["simulated_by"]["git_commits"] == {"test": 3}  # 3 shards
     g = gridmod.DesignGrid(3)
     top = {int(metrics.rank_designs(table, by).design.iloc[0]) for by in ("M_L", "M_CF")}
     want = {g.index_of(*gridmod.canonical_design())} | top
