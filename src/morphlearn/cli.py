@@ -204,7 +204,7 @@ def build_parser() -> argparse.ArgumentParser:
     b.add_argument("bundle", metavar="DIR", help="the bundle folder (e.g. results/paper)")
     b.add_argument("--resimulate", nargs="+", metavar="WHICH", default=[],
                    help="also re-simulate these theory designs and compare them exactly: canonical, "
-                        "best_M_L, best_M_CF or design indices (paper resolution: ~10 s each)")  # fmt: skip
+                        "best_M_L, best_M_CF or design indices (paper resolution: a few seconds each)")  # fmt: skip
     b.set_defaults(func=cmd_check_bundle)
     for parser in (p, d, v):  # argparse takes '-5e-1' for an option: accept every negative number
         parser._negative_number_matcher = _NEGATIVE_NUMBER
