@@ -81,6 +81,10 @@ def test_resimulated_designs_match_bundle(smoke_bundle: Path, tmp_path: Path) ->
     table.to_csv(copy / "theory/metrics.csv", index=False, float_format="%.10g")
     problems = bundle.resimulate(copy, [str(d)])
     assert len(problems) == 1 and problems[0].startswith(f"design {d}: metrics row"), problems
+    c = gridmod.DesignGrid(3).index_of(*gridmod.canonical_design())
+    table.loc[table.design == c, "M_L"] += 1e-6  # counts intact, the metric edited
+    table.to_csv(copy / "theory/metrics.csv", index=False, float_format="%.10g")
+    assert bundle.resimulate(copy, ["canonical"])[0].startswith(f"design {c}: metrics row M_L, M_CF")
     held = set(json.loads((copy / bundle.MANIFEST).read_text())["subsets"]["theory"]["designs"])
     absent = min(set(table.design) - held)
     assert bundle.resimulate(copy, [str(absent)]) == [f"design {absent}: not held in {copy}/theory/merged.zarr"]

@@ -135,7 +135,7 @@ def build(run_dir: str | Path, out_dir: str | Path, *, positions_per_axis: int, 
             "subsets": subsets,
             "files": {str(p.relative_to(tmp)): provenance.sha256_file(p) for p in _files(tmp)},
         }
-        (tmp / "README.md").write_text(readme(manifest, run_dir))
+        (tmp / "README.md").write_text(readme(manifest, run_dir, cost))
         manifest["files"]["README.md"] = provenance.sha256_file(tmp / "README.md")
         manifest["files"] = dict(sorted(manifest["files"].items()))
         (tmp / MANIFEST).write_text(json.dumps(manifest, indent=1, sort_keys=True) + "\n")
@@ -176,6 +176,9 @@ def resimulate(out_dir: str | Path, which: Iterable[str] = ("canonical", "best_M
         if stored != fresh:
             problems.append(f"design {d}: metrics row {stored} (per env, generalists, at least one, "
                             f"flagged) but re-simulated {fresh}")  # fmt: skip
+        elif [row.M_L, row.M_CF] != [float(metrics.CSV_FLOAT_FORMAT % x) for x in (dm.M_L, dm.M_CF)]:
+            problems.append(f"design {d}: metrics row M_L, M_CF = {row.M_L}, {row.M_CF} but re-simulated "
+                            f"{dm.M_L}, {dm.M_CF}")  # fmt: skip
         one = store.read_design(merged, list(merged["design"].values).index(d))
         for v in store.VARS:
             a, b = one[v], getattr(res, v)
@@ -265,7 +268,7 @@ def check(out_dir: str | Path) -> list[str]:
 _RENDERED = ("logs/", "benchmarks/", "figures/fig", ".snakemake")
 
 
-def readme(manifest: dict[str, Any], run_dir: Path) -> str:
+def readme(manifest: dict[str, Any], run_dir: Path, cost: pd.DataFrame) -> str:
     by = manifest["made_by"]
     sub = manifest["subsets"]
     lines = [
@@ -301,10 +304,9 @@ def readme(manifest: dict[str, Any], run_dir: Path) -> str:
         by = s.get("simulated_by", {})
         lines.append(f"- {model}: " + "; ".join(", ".join(f"{k}: {v}" for k, v in by.get(part, {}).items())
                                               for part in ("git_commits", "backends", "devices")))  # fmt: skip
-    cost_path = run_dir / "benchmarks"
-    if cost_path.is_dir():
+    if len(cost):
         lines += ["", "What the run cost (sums of the jobs' benchmark files; wall seconds add up jobs that "
-                  "ran side by side):", "", *cost_lines(run_cost(run_dir))]  # fmt: skip
+                  "ran side by side):", "", *cost_lines(cost)]  # fmt: skip
     lines += [
         "",
         "Left out (regenerate with the command above; the shards take the CPU time stated in",

@@ -16,6 +16,10 @@ import xarray as xr
 
 from morphlearn.grid import ENV_ANGLES_DEG
 
+#: How metrics tables store floats (10 significant digits): a value read back equals the metric
+#: formatted this way, exactly.
+CSV_FLOAT_FORMAT = "%.10g"
+
 
 @dataclass(frozen=True)
 class Thresholds:

@@ -197,7 +197,7 @@ def _write_csv_with_provenance(
 ) -> None:
     out_csv = Path(out_csv)
     with store.atomic_path(out_csv) as tmp:
-        table.to_csv(tmp, index=False, float_format="%.10g")
+        table.to_csv(tmp, index=False, float_format=metrics.CSV_FLOAT_FORMAT)
     prov = provenance.record(subset, inputs)
     with store.atomic_path(out_csv.with_suffix(".provenance.json")) as tmp:
         tmp.write_text(json.dumps(prov, indent=1, sort_keys=True) + "\n")
