@@ -267,6 +267,8 @@ def digest(obj: Any) -> str:
 
 def empirical_science(cfg: dict[str, Any], morphology: dict[str, Any]) -> dict[str, Any]:
     """The config subset that determines the empirical sweep's numbers."""
+    from morphlearn.empirical.options import SweepOptions
+
     emp = cfg["empirical"]
     return {
         "model": "empirical",
@@ -276,6 +278,7 @@ def empirical_science(cfg: dict[str, Any], morphology: dict[str, Any]) -> dict[s
         "params": {**morphology, **emp.get("params", {})},
         # only when on, so that the digests of results made before the option existed still hold
         **({"mirror_derive": True} if emp.get("mirror_derive") else {}),
+        **SweepOptions.from_config(emp).science(),
     }
 
 

@@ -15,6 +15,7 @@ import pandas as pd
 import xarray as xr
 
 from morphlearn.grid import ENV_ANGLES_DEG
+from morphlearn.results import STATUS_FLAGGED
 
 #: How metrics tables store floats (10 significant digits): a value read back equals the metric
 #: formatted this way, exactly.
@@ -82,7 +83,7 @@ def design_metrics(succ: np.ndarray, status: np.ndarray | None = None) -> Design
         at_least_one=any1,
         M_L=g4 / o.size,
         M_CF=g4 / any1 if any1 else 0.0,
-        flagged=int((status != 0).sum()) if status is not None else 0,
+        flagged=int(np.isin(status, STATUS_FLAGGED).sum()) if status is not None else 0,
     )
 
 

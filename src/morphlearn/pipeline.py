@@ -90,11 +90,14 @@ def evaluate_designs(
 
     from morphlearn.empirical import evaluate_design
 
+    from morphlearn.empirical.options import SweepOptions
+
     params = empirical_params(cfg)
+    options = SweepOptions.from_config(cfg["empirical"])
     out = []
     for i, c in enumerate(tqdm(g.coords(designs), unit="design", mininterval=1.0)):
         log = EpisodeProgress(f"design {int(designs[i])} ({i + 1}/{len(designs)})")
-        out.append(evaluate_design((c[0], c[1]), (c[2], c[3]), w, params, progress=log))
+        out.append(evaluate_design((c[0], c[1]), (c[2], c[3]), w, params, progress=log, options=options))
         if done:
             done(i, out[-1])
     return out

@@ -11,7 +11,11 @@ STATUS_OK = 0
 STATUS_STEP_UNDERFLOW = 1  # adaptive step fell below its floor (singular designs)
 STATUS_STEP_CAP = 2  # step-count cap reached before the horizon
 STATUS_NONFINITE = 3  # state became NaN/inf
-STATUS_NAMES = {0: "ok", 1: "step_underflow", 2: "step_cap", 3: "nonfinite"}
+#: Not simulated: the adaptive weight grid (empirical.adaptive_weights) took it as a failure.
+STATUS_INFERRED = 4
+STATUS_NAMES = {0: "ok", 1: "step_underflow", 2: "step_cap", 3: "nonfinite", 4: "inferred"}
+#: Codes of trajectories that stopped abnormally (the metrics tables' ``flagged`` count).
+STATUS_FLAGGED = (STATUS_STEP_UNDERFLOW, STATUS_STEP_CAP, STATUS_NONFINITE)
 
 
 @dataclass
@@ -19,7 +23,8 @@ class DesignResult:
     """Outcomes of one design over the (env, w1, w2) grid, each array of shape (4, m, m).
 
     ``first_time``: model time of first success (NaN if none within the simulated horizon);
-    ``min_dist``: minimum centre-to-light distance (up to success or the horizon);
+    ``min_dist``: minimum centre-to-light distance (up to success or the horizon; for an
+    empirical episode stopped early by the reach bound, up to that stop; NaN if inferred);
     ``status``: one of the ``STATUS_*`` codes.
     """
 

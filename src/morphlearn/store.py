@@ -33,7 +33,7 @@ import xarray as xr
 import zarr
 
 from morphlearn.grid import ENV_ANGLES_DEG, ENV_MIRROR, DesignGrid
-from morphlearn.results import DesignResult
+from morphlearn.results import STATUS_NAMES, DesignResult
 
 VARS = ("first_time", "min_dist", "status")
 DIMS = ("design", "env", "w1", "w2")
@@ -180,8 +180,8 @@ def verify_shard(shard: Shard, *, model: str, science: dict[str, Any], designs: 
         raise ShardError(f"shard {p}: data checksum mismatch (damaged)")
     if np.isnan(shard.arrays["min_dist"]).any():
         raise ShardError(f"shard {p}: NaN in min_dist")
-    if ((shard.arrays["status"] < 0) | (shard.arrays["status"] > 3)).any():
-        raise ShardError(f"shard {p}: status outside 0..3")
+    if not np.isin(shard.arrays["status"], list(STATUS_NAMES)).all():
+        raise ShardError(f"shard {p}: status outside {sorted(STATUS_NAMES)}")
 
 
 def mirror_arrays(arrays: dict[str, np.ndarray]) -> dict[str, np.ndarray]:

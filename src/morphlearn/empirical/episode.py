@@ -22,10 +22,13 @@ from dataclasses import dataclass
 import numpy as np
 import pybullet as pb
 
+from morphlearn.empirical.options import SweepOptions
 from morphlearn.empirical.params import EmpiricalParams
+from morphlearn.empirical.reach import CHECK_EVERY, ReachBound, sensor_reach
+from morphlearn.empirical.refine import refine
 from morphlearn.empirical.robot import LEFT_WHEEL, RIGHT_WHEEL, World, build_world, rebuild
 from morphlearn.grid import light_positions
-from morphlearn.results import STATUS_NONFINITE, STATUS_OK, DesignResult
+from morphlearn.results import STATUS_INFERRED, STATUS_NONFINITE, STATUS_OK, DesignResult
 
 Point = tuple[float, float]
 
@@ -40,6 +43,9 @@ class Episode:
     max_tilt: float  # rad, largest angle between body up-axis and world z
     max_lift: float  # m, largest |z - wheel_radius| of the body centre (0 = resting)
     finite: bool  # False if the state became NaN/inf (episode stopped there)
+    #: First checked step at which the reach bound said the light is out of reach (-1: never or
+    #: not checked). With ``stop_hopeless`` the episode stopped there (``steps`` equals it).
+    hopeless_step: int = -1
 
     @property
     def success(self) -> bool:
@@ -57,6 +63,7 @@ class EpisodeRunner:
         self.reuse = reuse
         self.lights = light_positions(self.params.light_distance)
         self._world: World | None = None
+        self._bounds: dict[tuple[float, float, float], ReachBound] = {}
 
     def _ready(self, env: int) -> World:
         light = (float(self.lights[env][0]), float(self.lights[env][1]))
@@ -78,10 +85,24 @@ class EpisodeRunner:
     def __exit__(self, *exc: object) -> None:
         self.close()
 
+    def bound(self, l1: Point, l2: Point, w1: float, w2: float, margin: float) -> ReachBound:
+        """The reach bound of an episode (tables cached per weight magnitude and design)."""
+        key = (max(abs(float(w1)), abs(float(w2))), sensor_reach(l1, l2), margin)
+        b = self._bounds.get(key)
+        if b is None:
+            b = self._bounds[key] = ReachBound(self.params, *key)
+        return b
+
     def run(
-        self, l1: Point, l2: Point, w1: float, w2: float, env: int, *, stop_at_contact: bool = True
+        self, l1: Point, l2: Point, w1: float, w2: float, env: int, *, stop_at_contact: bool = True,
+        bound: ReachBound | None = None, stop_hopeless: bool = True,
     ) -> Episode:
-        """One episode of design ``(l1, l2)`` with weights ``(w1, w2)`` in environment ``env``."""
+        """One episode of design ``(l1, l2)`` with weights ``(w1, w2)`` in environment ``env``.
+
+        With ``bound``, every ``CHECK_EVERY`` steps the episode asks it whether the light is still
+        reachable in the time left; ``stop_hopeless`` stops it at the first "no" (else the step is
+        only recorded, to validate the bound against full episodes).
+        """
         p = self.params
         world = self._ready(env)
         c, robot = world.client, world.robot
@@ -101,6 +122,9 @@ class EpisodeRunner:
         max_tilt_c = 1.0  # cos of the largest tilt, from the quaternion: 1 - 2 (qx^2 + qy^2)
         max_lift = 0.0
         finite = True
+        hopeless = -1
+        every = CHECK_EVERY if bound is not None else 0
+        get_vel = pb.getBaseVelocity
         k = 0
         while True:
             (px, py, pz), (qx, qy, qz, qw) = get_pose(robot, physicsClientId=c)
@@ -118,6 +142,12 @@ class EpisodeRunner:
                     break
             if k == p.steps:
                 break
+            if every and k % every == 0 and hopeless < 0:
+                (vx, vy, _), _ = get_vel(robot, physicsClientId=c)
+                if bound.hopeless(math.sqrt(d2), math.hypot(vx, vy), (p.steps - k) * p.dt):
+                    hopeless = k
+                    if stop_hopeless:
+                        break
             # Body x and y axes on the floor: rotation-matrix columns from the quaternion.
             ax, ay = 1.0 - 2.0 * (qy * qy + qz * qz), 2.0 * (qx * qy + qz * qw)
             bx, by = 2.0 * (qx * qy - qz * qw), 1.0 - 2.0 * (qx * qx + qz * qz)
@@ -142,6 +172,7 @@ class EpisodeRunner:
             max_tilt=math.acos(max(-1.0, min(1.0, max_tilt_c))),
             max_lift=max_lift,
             finite=finite,
+            hopeless_step=hopeless,
         )
 
 
@@ -151,12 +182,16 @@ def evaluate_design(
     weights: np.ndarray,
     params: EmpiricalParams | None = None,
     progress: Callable[[int, int], None] | None = None,
+    options: SweepOptions | None = None,
 ) -> DesignResult:
     """All (env, w1, w2) episodes of one design; arrays (4, m, m) indexed [env, i_w1, i_w2].
 
-    ``progress(done, total)`` is called after each episode if given. A non-finite state gives
-    status ``STATUS_NONFINITE`` (its first_time is NaN, min_dist up to where it stopped).
+    ``progress(done, total)`` is called after each episode if given (cells inferred by the
+    adaptive grid count as done when their environment ends). A non-finite state gives status
+    ``STATUS_NONFINITE`` (its first_time is NaN, min_dist up to where it stopped); a cell the
+    adaptive grid did not simulate has status ``STATUS_INFERRED`` and NaN arrays.
     """
+    options = options or SweepOptions()
     w = np.asarray(weights, dtype=np.float64)
     m = len(w)
     first = np.full((4, m, m), np.nan)
@@ -164,15 +199,30 @@ def evaluate_design(
     status = np.full((4, m, m), STATUS_OK, dtype=np.int8)
     total, done = 4 * m * m, 0
     with EpisodeRunner(params) as runner:
+        near = options.near * runner.params.contact_distance
+
+        def simulate(env: int, i: int, j: int) -> tuple[bool, bool]:
+            nonlocal done
+            b = runner.bound(l1, l2, w[i], w[j], options.margin) if options.early_stop else None
+            ep = runner.run(l1, l2, w[i], w[j], env, bound=b)
+            first[env, i, j] = ep.first_time
+            dist[env, i, j] = ep.min_dist
+            if not ep.finite:
+                status[env, i, j] = STATUS_NONFINITE
+            done += 1
+            if progress is not None and done < total:
+                progress(done, total)
+            return ep.success, ep.min_dist <= near
+
         for env in range(4):
-            for i in range(m):
-                for j in range(m):
-                    ep = runner.run(l1, l2, w[i], w[j], env)
-                    first[env, i, j] = ep.first_time
-                    dist[env, i, j] = ep.min_dist
-                    if not ep.finite:
-                        status[env, i, j] = STATUS_NONFINITE
-                    done += 1
-                    if progress is not None:
-                        progress(done, total)
+            if options.adaptive_weights:
+                sim = refine(m, lambda i, j, env=env: simulate(env, i, j), options.stride)
+                status[env][~sim] = STATUS_INFERRED
+                done += int((~sim).sum())
+            else:
+                for i in range(m):
+                    for j in range(m):
+                        simulate(env, i, j)
+        if progress is not None:
+            progress(total, total)
     return DesignResult(first_time=first, min_dist=dist, status=status)

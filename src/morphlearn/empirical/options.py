@@ -1,0 +1,46 @@
+"""How the empirical sweep runs a design's episodes: the levers that cut its cost.
+
+- ``early_stop`` (exact; on in config.yaml): stop an episode once the reach bound
+  (:mod:`.reach`) shows the light is out of reach in the time left. Successes and first-contact
+  times are unchanged (validated, docs/empirical.md); a stopped episode's closest approach is
+  the one up to the stop.
+- ``adaptive_weights`` (an option, off by default; it can miss successes): simulate only the
+  cells of the weight grid that :mod:`.refine` picks, the rest are inferred failures.
+
+Plain data (no pybullet): the config parses into it, the science record is made from it.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any
+
+from morphlearn.empirical.reach import CHECK_EVERY
+from morphlearn.empirical.refine import DEFAULT_NEAR, DEFAULT_STRIDE
+
+DEFAULT_MARGIN = 2.0
+
+
+@dataclass(frozen=True)
+class SweepOptions:
+    early_stop: bool = False
+    margin: float = DEFAULT_MARGIN
+    adaptive_weights: bool = False
+    stride: int = DEFAULT_STRIDE
+    near: float = DEFAULT_NEAR
+
+    @classmethod
+    def from_config(cls, emp: dict[str, Any]) -> SweepOptions:
+        """From the validated ``empirical`` config section."""
+        return cls(early_stop=bool(emp.get("early_stop", False)),
+                   adaptive_weights=bool(emp.get("adaptive_weights", False)))  # fmt: skip
+
+    def science(self) -> dict[str, Any]:
+        """The science-record entries of the levers that are on (none when all are off, so the
+        digests of results made before the levers existed still hold)."""
+        out: dict[str, Any] = {}
+        if self.early_stop:
+            out["early_stop"] = {"margin": self.margin, "check_every": CHECK_EVERY}
+        if self.adaptive_weights:
+            out["adaptive_weights"] = {"stride": self.stride, "near": self.near}
+        return out
