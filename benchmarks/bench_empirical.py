@@ -1,6 +1,19 @@
-"""Benchmark of the empirical (pybullet) model: episodes per second per core, and batching.
+"""Benchmark of the empirical (pybullet) model: episodes per core-second, current loop vs new.
 
-Runs the same set of full-length episodes (no early stop) two ways, side by side:
+Default: the survey's cost per design, three ways in one run, on ``--pairs`` mirror pairs of the
+5-positions-per-axis grid at 11 x 11 weights (CPU seconds of this process, one core):
+
+- current: every episode to contact or the horizon (``early_stop: false``), both designs of
+  each pair simulated;
+- early stop: the exact lever alone (config.yaml's default);
+- survey: early stop + adaptive weight grid, one design of each pair simulated and the other
+  derived (config/survey.yaml).
+
+"Episodes" are the (env, w1, w2) cells of the designs covered, so a lever that skips episodes
+raises the rate; the ratios are the per-design core-second savings.
+
+``--batched``: the older study of several robots in one world. It runs the same set of
+full-length episodes (no early stop) two ways, side by side:
 
 - solo: one robot per world (the production :class:`EpisodeRunner`, world reused);
 - batched: ``--batch`` robots in one world, each with its own light, collision filters so
@@ -10,7 +23,8 @@ Prints CPU seconds per episode, episodes/s per core, the batched speed-up, and w
 batched outcomes equal the solo ones bit for bit. Also times production episodes that stop at
 contact. Single process (one core). Usage::
 
-    PYTHONPATH=src python benchmarks/bench_empirical.py [--batch 8] [--params FILE.yaml]
+    python benchmarks/bench_empirical.py [--pairs 2]
+    python benchmarks/bench_empirical.py --batched [--batch 8] [--params FILE.yaml]
 """
 
 from __future__ import annotations
@@ -23,7 +37,8 @@ from pathlib import Path
 import numpy as np
 import pybullet as pb
 
-from morphlearn.empirical import EmpiricalParams, EpisodeRunner, load_params
+from morphlearn.empirical import EmpiricalParams, EpisodeRunner, evaluate_design, load_params
+from morphlearn.empirical.options import SweepOptions
 from morphlearn.empirical.robot import (
     LEFT_WHEEL,
     RIGHT_WHEEL,
@@ -32,7 +47,7 @@ from morphlearn.empirical.robot import (
     add_robot,
     configure,
 )
-from morphlearn.grid import light_positions
+from morphlearn.grid import DesignGrid, light_positions, weights
 
 Case = tuple[tuple[float, float], tuple[float, float], float, float, int]
 
@@ -103,14 +118,59 @@ def batched(params: EmpiricalParams, cs: list[Case]) -> tuple[float, list[float]
     return time.process_time() - t, [math.sqrt(v) for v in min_d2]
 
 
+#: Designs of the comparison: the paper's best theory pair first, then seeded others.
+def pair_designs(pairs: int) -> list[tuple[int, int]]:
+    g = DesignGrid(5)
+    d = np.arange(g.size)
+    reps = d[d < g.mirror(d)]
+    best = g.index_of((-0.5, -0.25), (0.5, 0.25))
+    best = min(best, int(g.mirror(best)))
+    others = np.random.default_rng(1).permutation(reps[reps != best])[: pairs - 1]
+    return [(int(x), int(g.mirror(x))) for x in [best, *others]]
+
+
+def levers(params: EmpiricalParams, pairs: int, m: int) -> None:
+    g = DesignGrid(5)
+    w = weights(m)
+    cells = 4 * m * m
+    ways = {"current": SweepOptions(), "early stop": SweepOptions(early_stop=True),
+            "survey": SweepOptions(early_stop=True, adaptive_weights=True)}  # fmt: skip
+    cpu = dict.fromkeys(ways, 0.0)
+    found = dict.fromkeys(ways, 0)
+    designs = pair_designs(pairs)
+    print(f"{len(designs)} mirror pairs ({2 * len(designs)} designs) x {cells} episodes, {m} x {m} weights, "
+          f"{params.steps} steps of dt {params.dt}, one core")  # fmt: skip
+    for pair in designs:
+        for name, opt in ways.items():
+            for d in pair[:1] if name == "survey" else pair:  # the survey derives the mirror image
+                c = g.coords(d)
+                t = time.process_time()
+                r = evaluate_design((c[0], c[1]), (c[2], c[3]), w, params, options=opt)
+                cpu[name] += time.process_time() - t
+                found[name] += int(np.isfinite(r.first_time).sum()) * (2 if name == "survey" else 1)
+        print(f"  pair {pair}: " + ", ".join(f"{k} {v:.0f} CPU-s" for k, v in cpu.items()), flush=True)
+    n = 2 * len(designs) * cells
+    for name in ways:
+        per = cpu[name] / (2 * len(designs))
+        print(f"{name:>10}: {per:7.1f} core-s per design, {n / cpu[name]:6.2f} episodes/core-s, "
+              f"{cpu['current'] / cpu[name]:5.2f}x the current loop; successes {found[name]}")  # fmt: skip
+
+
 def main() -> None:
     root = Path(__file__).resolve().parents[1]
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--params", default=str(root / "config" / "empirical_morphology.yaml"))
+    ap.add_argument("--pairs", type=int, default=2, help="mirror pairs of designs in the comparison")
+    ap.add_argument("--weights", type=int, default=11, help="weights per synapse in the comparison")
+    ap.add_argument("--batched", action="store_true", help="the batching study instead")
     ap.add_argument("--batch", type=int, default=8, help="robots per world in the batched run")
     ap.add_argument("--episodes", type=int, default=16, help="episodes per measurement")
     a = ap.parse_args()
     params = load_params(a.params) if Path(a.params).exists() else EmpiricalParams()
+    if not a.batched:
+        print(f"params: {a.params}")
+        levers(params, a.pairs, a.weights)
+        return
     cs = cases(a.episodes)
     print(f"params: {a.params if Path(a.params).exists() else 'authors defaults'}")
     print(f"{len(cs)} episodes of {params.steps} steps, dt {params.dt}, one core")

@@ -112,7 +112,7 @@ def build(run_dir: str | Path, out_dir: str | Path, *, positions_per_axis: int, 
             for name in MODEL_FILES:
                 shutil.copy2(run_dir / model / name, tmp / model / name)
             table = pd.read_csv(run_dir / model / "metrics.csv")
-            n = positions_per_axis if model == "theory" else _positions_of(run_dir / model)
+            n = positions_per_axis if model == "theory" else positions_of(run_dir / model)
             designs = drawn_designs(table, n, top) if model == "theory" else np.sort(table.design)
             src = run_dir / model / "merged.zarr"
             store.write_subset(src, designs, tmp / model / "merged.zarr")
@@ -234,9 +234,25 @@ def _simulated_by(merged: Path) -> dict[str, Any]:
     return prov.get("shards", {})
 
 
-def _positions_of(model_dir: Path) -> int:
+def extract_model(bundle_dir: str | Path, model: str, out: dict[str, str | Path]) -> None:
+    """Copy one model's results out of a bundle (``out``: metrics, provenance, merged paths),
+    after checking the whole bundle against its checksums; nothing is written if it fails."""
+    problems = check(bundle_dir)
+    if problems:
+        raise BundleError(f"{bundle_dir}: {len(problems)} problem(s), first: {problems[0]}")
+    src = Path(bundle_dir) / model
+    for name, key in (("metrics.csv", "metrics"), ("metrics.provenance.json", "provenance")):
+        dst = Path(out[key])
+        dst.parent.mkdir(parents=True, exist_ok=True)
+        with store.atomic_path(dst) as tmp:
+            shutil.copy2(src / name, tmp)
+    with store.atomic_path(Path(out["merged"])) as tmp:
+        shutil.copytree(src / "merged.zarr", tmp)
+
+
+def positions_of(model_dir: str | Path) -> int:
     """Positions per axis of a model's run, from its merged dataset's science record."""
-    sci = store.science_of(store.open_merged(model_dir / "merged.zarr"))
+    sci = store.science_of(store.open_merged(Path(model_dir) / "merged.zarr"))
     return int(sci.get("grid", {}).get("positions_per_axis", sci.get("positions_per_axis")))
 
 

@@ -169,10 +169,35 @@ def _check_cross(cfg: dict[str, Any]) -> None:
         )
 
 
+def _check_results_from(cfg: dict[str, Any]) -> None:
+    """A bundle to read the empirical results from: present, on this config's grid (its checksums
+    are checked when the results are copied, by the rule empirical_from_bundle)."""
+    from morphlearn import bundle
+
+    path = cfg["empirical"]["results_from"]
+    need = [Path(path) / "bundle.json", Path(path) / "empirical" / "metrics.csv",
+            Path(path) / "empirical" / "merged.zarr"]  # fmt: skip
+    missing = [str(p) for p in need if not p.exists()]
+    if missing:
+        raise ConfigError(f"empirical.results_from = {path!r}: {missing[0]} is missing; allowed: a results "
+                          "bundle with empirical results (e.g. results/survey), or null to simulate")  # fmt: skip
+    try:
+        positions = bundle.positions_of(Path(path) / "empirical")
+    except Exception as e:  # a damaged store: say which and why, in one line
+        raise ConfigError(f"empirical.results_from = {path!r}: unreadable empirical results ({e})") from None
+    n = cfg["grid"]["positions_per_axis"]
+    if positions != n:
+        raise ConfigError(f"empirical.results_from = {path!r} holds results on the {positions}-point grid; "
+                          f"allowed: a bundle on grid.positions_per_axis = {n}")  # fmt: skip
+
+
 def _check_empirical(cfg: dict[str, Any], g: Any) -> None:
     from morphlearn.empirical.params import EmpiricalParams
 
     emp = cfg["empirical"]
+    if emp["results_from"] is not None:
+        _check_results_from(cfg)
+        return
     for k in emp.get("params", {}):
         if k not in EmpiricalParams.__dataclass_fields__:
             raise ConfigError(

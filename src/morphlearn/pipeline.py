@@ -24,14 +24,35 @@ MODELS = ("theory", "empirical")
 FIGURES = tuple(f for f, spec in FIGURE_SPECS.items() if spec.needs is None)
 
 
+def empirical_survey(cfg: dict[str, Any]) -> bool:
+    """The empirical results cover every design of the grid (simulated, or read from a bundle)."""
+    emp = cfg["empirical"]
+    return bool(emp.get("enabled")) and (emp["results_from"] is not None or emp["designs"] == "all")
+
+
+#: Figure conditions besides "a config section is enabled" (registry ``needs``).
+FIGURE_CONDITIONS: dict[str, Callable[[dict[str, Any]], bool]] = {"empirical_survey": empirical_survey}
+
+
 def figures(cfg: dict[str, Any]) -> list[str]:
-    """The figures this config draws: the paper's and those whose ``needs`` section is enabled."""
-    return [f for f, s in FIGURE_SPECS.items() if s.needs is None or cfg.get(s.needs, {}).get("enabled")]
+    """The figures this config draws: the paper's and those whose ``needs`` is met."""
+    def met(needs: str | None) -> bool:
+        if needs is None:
+            return True
+        return FIGURE_CONDITIONS[needs](cfg) if needs in FIGURE_CONDITIONS else bool(cfg.get(needs, {}).get("enabled"))
+
+    return [f for f, s in FIGURE_SPECS.items() if met(s.needs)]
 
 
 def models(cfg: dict[str, Any]) -> list[str]:
     """The models this config runs."""
     return ["theory"] + (["empirical"] if cfg["empirical"].get("enabled") else [])
+
+
+def simulated_models(cfg: dict[str, Any]) -> list[str]:
+    """The models this config simulates (the empirical results may come from a bundle instead:
+    ``empirical.results_from``)."""
+    return [m for m in models(cfg) if m != "empirical" or cfg["empirical"]["results_from"] is None]
 
 
 def designs_to_evaluate(cfg: dict[str, Any], model: str = "theory") -> np.ndarray:
@@ -89,7 +110,6 @@ def evaluate_designs(
     from tqdm import tqdm
 
     from morphlearn.empirical import evaluate_design
-
     from morphlearn.empirical.options import SweepOptions
 
     params = empirical_params(cfg)
@@ -278,6 +298,7 @@ def summary_markdown(summary: dict[str, Any]) -> str:
 DERIVED_FIGURE_OPTIONS: dict[str, Callable[[dict[str, Any]], Any]] = {
     "morphology": lambda cfg: empirical_params(cfg).to_dict(),  # Fig. 1C: the empirical model's body
     "trajectory_settings": lambda cfg: trajectory_settings(cfg),
+    "top": lambda cfg: cfg["analysis"]["top"],  # the survey figure's sensor maps: the summary's top designs
 }
 
 

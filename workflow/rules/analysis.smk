@@ -21,7 +21,7 @@ rule merge:
     benchmark:
         f"{R}/benchmarks/{{model}}/merge.tsv"
     wildcard_constraints:
-        model="theory|empirical",
+        model="|".join(SIMULATED),
     conda:
         "../../envs/analysis.yaml"
     params:
@@ -45,7 +45,7 @@ rule metrics:
     benchmark:
         f"{R}/benchmarks/{{model}}/metrics.tsv"
     wildcard_constraints:
-        model="theory|empirical",
+        model="|".join(SIMULATED),
     conda:
         "../../envs/analysis.yaml"
     params:

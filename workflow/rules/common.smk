@@ -30,7 +30,8 @@ os.environ["PATH"] = (
 
 R = CFG["results_dir"]
 MODELS = pipeline.models(CFG)
-SHARDS = {m: pipeline.shard_designs(CFG, m) for m in MODELS}
+SIMULATED = pipeline.simulated_models(CFG)
+SHARDS = {m: pipeline.shard_designs(CFG, m) for m in SIMULATED}
 LEARNER_SHARDS = learner_experiment.shards(CFG) if CFG["learners"]["enabled"] else []
 
 
@@ -39,7 +40,7 @@ LEARNER_SHARDS = learner_experiment.shards(CFG) if CFG["learners"]["enabled"] el
 # cluster jobs re-parse this file and must not re-read the shards. Not for `--unlock`, which only
 # clears a lock (Snakemake gives the Snakefile no other way to tell that mode than its arguments).
 if not CFG["render_only"] and workflow.is_main_process and "--unlock" not in sys.argv:
-    for _m in MODELS:
+    for _m in SIMULATED:
         _stale = results_check.unrecorded_stale(
             R, _m, pipeline.science(CFG, _m), SHARDS[_m]
         )

@@ -33,7 +33,8 @@ class Figure:
     #: Notebook parameters taken from the config (pipeline.figure_options): a key of the config's
     #: ``figures`` section, or one of pipeline.DERIVED_FIGURE_OPTIONS.
     options: tuple[str, ...] = ()
-    #: A config section whose ``enabled`` the figure needs (drawn only then), or None (always).
+    #: A config section whose ``enabled`` the figure needs (drawn only then), a condition of
+    #: pipeline.FIGURE_CONDITIONS, or None (always).
     needs: str | None = None
     #: Further results it reads, relative to results_dir.
     files: tuple[str, ...] = ()
@@ -49,6 +50,8 @@ FIGURES: dict[str, Figure] = {
     "fig7": Figure(reads=("theory", "empirical")),
     # beyond the paper: real learners against M_L and M_CF (issue 15; config/learners.yaml)
     "learners": Figure(needs="learners", files=("learners/runs.csv", "learners/correlations.csv")),
+    # beyond the paper: theory against physics per design (issue 12; config/survey.yaml)
+    "survey": Figure(reads=("theory", "empirical"), needs="empirical_survey", options=("top",)),
 }
 
 #: Every figure rule's input: the one matplotlib style all figures use.

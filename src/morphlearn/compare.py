@@ -1,0 +1,90 @@
+"""Theory against physics, design by design: does the theory's ranking of designs carry over?
+
+Both metrics tables (``<model>/metrics.csv``) index designs on the same grid when the two models
+share ``grid.positions_per_axis``; :func:`joined` pairs their rows by design index (the empirical
+model may hold a subset). Rank agreement is Spearman's rho with a percentile bootstrap interval
+over designs (:func:`spearman_ci`, scipy.stats.bootstrap); the many designs with M = 0 are ties,
+which Spearman's rho handles by mid-ranks.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+import pandas as pd
+from scipy import stats
+
+from morphlearn import metrics
+
+COORDS = ["l1x", "l1y", "l2x", "l2y"]
+
+
+def joined(theory: pd.DataFrame, empirical: pd.DataFrame) -> pd.DataFrame:
+    """One row per design in both tables: coordinates, ``M_L_theory``, ``M_L_empirical``, ... and
+    each model's rank by M_L and by M_CF (1 = best; ties broken as :func:`metrics.rank_designs`)."""
+    cols = ["design", *COORDS, "generalists", "M_L", "M_CF"]
+    t, e = theory[cols], empirical[cols]
+    both = t.merge(e, on="design", suffixes=("_theory", "_empirical"))
+    for c in COORDS:
+        if not np.allclose(both[f"{c}_theory"], both[f"{c}_empirical"]):
+            raise ValueError(f"design indices disagree on {c}: the two tables use different grids")
+    both = both.rename(columns={f"{c}_theory": c for c in COORDS}).drop(columns=[f"{c}_empirical" for c in COORDS])
+    for model in ("theory", "empirical"):
+        sub = both[["design", *COORDS, f"M_L_{model}", f"M_CF_{model}"]].rename(
+            columns={f"M_L_{model}": "M_L", f"M_CF_{model}": "M_CF"}
+        )
+        for by in ("M_L", "M_CF"):
+            order = metrics.rank_designs(sub, by).design.to_numpy()
+            rank = pd.Series(np.arange(1, len(order) + 1), index=order)
+            both[f"rank_{by}_{model}"] = both.design.map(rank).to_numpy()
+    return both.sort_values("design").reset_index(drop=True)
+
+
+@dataclass(frozen=True)
+class RankAgreement:
+    metric: str
+    n: int
+    rho: float
+    low: float  # bootstrap percentile interval
+    high: float
+    level: float
+
+    def text(self) -> str:
+        interval = f"{self.level:.0%} bootstrap interval, {self.n} designs"
+        return f"{self.rho:.3f} [{self.low:.3f}, {self.high:.3f}] ({interval})"
+
+
+def spearman_ci(x: np.ndarray, y: np.ndarray, metric: str, n_resamples: int = 2000, level: float = 0.95,
+                seed: int = 0) -> RankAgreement:  # fmt: skip
+    """Spearman's rho of paired per-design values with a percentile bootstrap interval over designs
+    (seeded: the same inputs give the same interval)."""
+    x, y = np.asarray(x, float), np.asarray(y, float)
+    rho = float(stats.spearmanr(x, y).statistic)
+
+    def stat(a: np.ndarray, b: np.ndarray) -> float:
+        return stats.spearmanr(a, b).statistic
+
+    with np.errstate(invalid="ignore"):  # a resample with a constant column gives NaN: dropped
+        res = stats.bootstrap((x, y), stat, paired=True, vectorized=False, n_resamples=n_resamples,
+                              confidence_level=level, method="percentile",
+                              random_state=np.random.default_rng(seed))  # fmt: skip
+    lo, hi = res.confidence_interval
+    return RankAgreement(metric, len(x), rho, float(lo), float(hi), level)
+
+
+def agreement(both: pd.DataFrame, n_resamples: int = 2000) -> dict[str, RankAgreement]:
+    """Spearman theory vs empirical for M_L and M_CF over the designs of :func:`joined`."""
+    return {m: spearman_ci(both[f"{m}_theory"], both[f"{m}_empirical"], m, n_resamples) for m in ("M_L", "M_CF")}
+
+
+def sensor_use(table: pd.DataFrame, top: int, by: str = "M_L") -> pd.DataFrame:
+    """How often each sensor position is used by the ``top`` designs by ``by`` (both sensors
+    counted): columns x, y, count; positions never used have count 0."""
+    best = metrics.rank_designs(table, by).head(top)
+    pts = np.concatenate([best[["l1x", "l1y"]].to_numpy(), best[["l2x", "l2y"]].to_numpy()])
+    axis = np.unique(table[["l1x", "l1y", "l2x", "l2y"]].to_numpy())
+    xs, ys = np.meshgrid(axis, axis, indexing="ij")
+    counts = [int(np.sum(np.isclose(pts[:, 0], x) & np.isclose(pts[:, 1], y)))
+              for x, y in zip(xs.ravel(), ys.ravel(), strict=True)]  # fmt: skip
+    return pd.DataFrame({"x": xs.ravel(), "y": ys.ravel(), "count": counts})

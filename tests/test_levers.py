@@ -1,0 +1,181 @@
+"""The empirical sweep's levers: the reach bound (early stop), the adaptive weight grid, the
+status of inferred cells, and the comparison of the two models per design. ~20 s on one core."""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+import pytest
+from scipy import integrate
+
+from morphlearn import compare, metrics
+from morphlearn.empirical import EmpiricalParams, EpisodeRunner, evaluate_design, load_params
+from morphlearn.empirical.options import SweepOptions
+from morphlearn.empirical.reach import ReachBound, centre_factor
+from morphlearn.empirical.refine import lattice, refine_mask
+from morphlearn.results import STATUS_INFERRED, STATUS_NONFINITE, STATUS_OK
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+@pytest.fixture(scope="module")
+def params() -> EmpiricalParams:
+    return load_params(ROOT / "config" / "empirical_morphology.yaml")
+
+
+# --- the reach bound -------------------------------------------------------------------------
+
+
+def _exact_time(p: EmpiricalParams, w_max: float, rho: float, margin: float, d: float, u: float) -> float:
+    """The integral the table bounds, by adaptive quadrature: time from d to c at speed
+    max(margin u, margin 1.05 V tanh(w / (x - rho)^2))."""
+    k = margin * centre_factor(p) * p.max_speed * p.wheel_radius
+
+    def inv(x: float) -> float:
+        v = max(margin * u, k * math.tanh(w_max / max(x - rho, 1e-9) ** 2))
+        return 1.0 / v
+
+    return integrate.quad(inv, p.contact_distance, d, limit=200)[0]
+
+
+@pytest.mark.parametrize(("w_max", "rho", "u"), [(1.0, 0.707, 0.0), (0.4, 0.25, 0.05), (1.0, 0.0, 0.3)])
+def test_reach_bound_is_a_lower_bound_and_close(params: EmpiricalParams, w_max: float, rho: float, u: float) -> None:
+    b = ReachBound(params, w_max, rho, margin=2.0)
+    for d in (1.0, 3.0, 5.66, 12.0, 40.0, 90.0):  # 90 m: past the table
+        exact = _exact_time(params, w_max, rho, 2.0, d, u)
+        lb = b.lower_time(d, u)
+        assert lb <= exact * (1 + 1e-12), (d, lb, exact)
+        if d < ReachBound.EXTENT:  # left sums at 1 cm: not much below (past the table: looser)
+            assert lb >= exact * 0.97 - 0.05, (d, lb, exact)
+
+
+def test_reach_bound_monotone_and_edge_cases(params: EmpiricalParams) -> None:
+    b = ReachBound(params, 1.0, 0.5)
+    times = [b.lower_time(d, 0.0) for d in np.linspace(0.5, 30, 300)]
+    assert bool(np.all(np.diff(times) >= 0))
+    assert b.lower_time(params.contact_distance, 5.0) == 0.0
+    # faster now -> it could get there sooner
+    assert b.lower_time(8.0, 1.0) < b.lower_time(8.0, 0.0)
+    still = ReachBound(params, 0.0, 0.5)  # w = 0: the wheels are held still
+    assert still.hopeless(5.66, 0.0, 125.0)
+    assert not still.hopeless(5.66, 1.0, 125.0)  # unless the body is moving
+    with pytest.raises(ValueError, match="margin"):
+        ReachBound(params, 1.0, 0.5, margin=0.5)
+
+
+def test_early_stop_changes_no_outcome(params: EmpiricalParams) -> None:
+    """The early-stopped loop is the full loop cut where the bound says "hopeless": same contact
+    times, and it does cut (a short horizon keeps this fast; the 20,328-episode validation is
+    benchmarks/validate_levers.py)."""
+    p = params.replace(steps=600)
+    cases = [((0.5, 0.5), (0.5, -0.5), 1.0, 1.0, 0), ((0.5, 0.5), (0.5, -0.5), -1.0, -0.6, 2),
+             ((-0.5, -0.25), (0.5, 0.25), 0.6, -0.8, 1), ((0.0, 0.25), (0.25, 0.0), 0.0, 0.0, 3),
+             ((-0.5, -0.25), (0.5, 0.25), -0.8, 0.6, 0), ((0.5, 0.5), (0.5, -0.5), 0.2, 0.2, 1)]  # fmt: skip
+    stopped = 0
+    with EpisodeRunner(p) as runner:
+        for l1, l2, w1, w2, env in cases:
+            full = runner.run(l1, l2, w1, w2, env)
+            b = runner.bound(l1, l2, w1, w2, 2.0)
+            shadow = runner.run(l1, l2, w1, w2, env, bound=b, stop_hopeless=False)
+            early = runner.run(l1, l2, w1, w2, env, bound=b)
+            assert repr(full.first_time) == repr(early.first_time) == repr(shadow.first_time)
+            assert (full.steps, full.min_dist) == (shadow.steps, shadow.min_dist)  # checking alone changes nothing
+            if early.hopeless_step >= 0:
+                stopped += 1
+                assert early.steps == early.hopeless_step == shadow.hopeless_step < full.steps
+                assert early.min_dist >= full.min_dist  # closest approach up to the stop
+            else:
+                assert (early.steps, early.min_dist) == (full.steps, full.min_dist)
+    assert stopped >= 1
+
+
+# --- the adaptive weight grid ----------------------------------------------------------------
+
+
+def test_lattice_and_refinement_replay() -> None:
+    assert lattice(11, 2).sum() == 36 and lattice(11, 2)[10, 10] and not lattice(11, 2)[1, 0]
+    assert lattice(10, 3).sum() == 16  # 0, 3, 6, 9
+    none = np.zeros((11, 11), bool)
+    assert (refine_mask(none, none) == lattice(11, 2)).all()  # nothing found: the lattice only
+    blob = np.zeros((11, 11), bool)
+    blob[6:9, 7:10] = True  # touches the lattice at (6, 8), (8, 8)
+    mask = refine_mask(blob, none)
+    assert mask[blob].all()  # the whole region, found from one lattice cell
+    assert mask[5:10, 6:11].all()  # and its one-cell fringe
+    lone = np.zeros((11, 11), bool)
+    lone[3, 5] = True  # off the lattice, no neighbour succeeds: missed...
+    assert not refine_mask(lone, none)[3, 5]
+    near = np.zeros((11, 11), bool)
+    near[4, 4] = True  # ...unless a lattice neighbour came near the light
+    assert refine_mask(lone, near)[3, 5]
+
+
+def test_adaptive_design_marks_inferred_cells(params: EmpiricalParams) -> None:
+    """Cells the refinement skips are stored as inferred failures (NaN, status 4); the simulated
+    ones equal the full sweep's bit for bit; the metrics do not count inferred cells as flagged."""
+    p = params.replace(steps=400)
+    w = np.linspace(-1.0, 1.0, 5)
+    design = ((0.5, 0.5), (0.5, -0.5))
+    full = evaluate_design(*design, w, p)
+    calls: list[tuple[int, int]] = []
+    ada = evaluate_design(*design, w, p, lambda d, t: calls.append((d, t)), options=SweepOptions(adaptive_weights=True))
+    inferred = ada.status == STATUS_INFERRED
+    assert inferred.any() and calls[-1] == (100, 100)
+    assert np.isnan(ada.first_time[inferred]).all() and np.isnan(ada.min_dist[inferred]).all()
+    np.testing.assert_array_equal(ada.first_time[~inferred], full.first_time[~inferred])
+    np.testing.assert_array_equal(ada.min_dist[~inferred], full.min_dist[~inferred])
+    succ = np.isfinite(ada.first_time)
+    dm = metrics.design_metrics(succ, ada.status)
+    assert dm.flagged == 0
+    st = np.full((4, 2, 2), STATUS_OK, np.int8)
+    st[0, 0, 0], st[1, 0, 0] = STATUS_INFERRED, STATUS_NONFINITE
+    assert metrics.design_metrics(np.zeros((4, 2, 2), bool), st).flagged == 1
+
+
+def test_options_enter_the_science_record_only_when_on() -> None:
+    from morphlearn import config as cfgmod
+
+    base = cfgmod.load(ROOT / "config.yaml")
+    off = cfgmod.deep_merge(base, {"empirical": {"early_stop": False, "adaptive_weights": False}})
+    sci_off = cfgmod.empirical_science(cfgmod.validate(off), {})
+    assert "early_stop" not in sci_off and "adaptive_weights" not in sci_off
+    on = cfgmod.empirical_science(cfgmod.validate(cfgmod.deep_merge(off, {"empirical": {
+        "early_stop": True, "adaptive_weights": True}})), {})  # fmt: skip
+    assert on["early_stop"] == {"margin": 2.0, "check_every": 10}
+    assert on["adaptive_weights"] == {"stride": 2, "near": 1.5}
+    paper = cfgmod.load(ROOT / "config.yaml", [ROOT / "config/paper.yaml"])
+    assert "early_stop" not in cfgmod.empirical_science(paper, {})  # the committed bundle's record
+
+
+# --- theory against physics ------------------------------------------------------------------
+
+
+def _table(values_l: np.ndarray, values_cf: np.ndarray) -> pd.DataFrame:
+    n = len(values_l)
+    axis = np.linspace(-0.5, 0.5, 3)
+    idx = np.arange(n)
+    return pd.DataFrame({"design": idx, "l1x": axis[idx % 3], "l1y": axis[(idx // 3) % 3], "l2x": 0.5, "l2y": -0.5,
+                         "generalists": (values_l * 100).astype(int), "M_L": values_l, "M_CF": values_cf})  # fmt: skip
+
+
+def test_rank_agreement_and_sensor_use() -> None:
+    x = np.linspace(0, 1, 30)
+    t = _table(x, x**2)
+    same = compare.joined(t, _table(x**3, x))  # monotone in both metrics
+    a = compare.agreement(same, n_resamples=200)
+    assert a["M_L"].rho == pytest.approx(1.0) and a["M_L"].low == pytest.approx(1.0)
+    rev = compare.joined(t, _table(1 - x, 1 - x))
+    r = compare.agreement(rev, n_resamples=200)["M_CF"]
+    assert r.rho == pytest.approx(-1.0) and r.high == pytest.approx(-1.0)
+    noisy = compare.joined(t, _table(np.random.default_rng(0).permutation(x), x))
+    n = compare.agreement(noisy, n_resamples=300)["M_L"]
+    assert n.low < n.rho < n.high and n.low < 0.5
+    assert compare.agreement(noisy, n_resamples=300)["M_L"] == n  # seeded: same interval
+    assert same.rank_M_L_theory.tolist() == list(range(30, 0, -1))  # best (largest) ranks 1
+    use = compare.sensor_use(t, 4)
+    assert use["count"].sum() == 8 and len(use) == 9  # 4 designs x 2 sensors on the 3 x 3 positions
+    with pytest.raises(ValueError, match="different grids"):
+        compare.joined(t, t.assign(l1x=t.l1x + 0.1))
