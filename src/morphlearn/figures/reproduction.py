@@ -57,6 +57,8 @@ QUANTITIES: tuple[tuple[str, str, str], ...] = (
 COLUMNS = ["key", "quantity", "paper", "ours", "config", "note"]
 #: The paper's column for rows beyond the paper (the learner stage, issue 15).
 BEYOND = "beyond the paper (no learning algorithm tested)"
+#: The paper's column for the theory-vs-physics rank agreement (issue 12).
+BEYOND_MODELS = "beyond the paper (the two models were not compared design by design)"
 LEARNER_LABELS = {"random": "random search", "one_plus_one": "(1+1)-ES", "cmaes": "CMA-ES"}
 
 
@@ -86,6 +88,54 @@ def learner_rows(corr: pd.DataFrame, config_name: str) -> list[dict[str, str]]:
             rows.append({"key": key, "quantity": quantity, "paper": BEYOND, "ours": value,
                          "config": config_name, "note": note})  # fmt: skip
     return rows
+
+
+def is_survey(theory: fd.ModelResults | None, empirical: fd.ModelResults | None) -> bool:
+    """The empirical results cover every design of the theory's grid (config/survey.yaml)."""
+    if theory is None or empirical is None or empirical.positions_per_axis != theory.positions_per_axis:
+        return False
+    return empirical.n_designs == gridmod.DesignGrid(theory.positions_per_axis or 0).size
+
+
+def survey_rows(theory: fd.ModelResults, empirical: fd.ModelResults, config_name: str) -> list[dict[str, str]]:
+    """Rows of the survey: the paper's empirical claims that need every design (asymmetric
+    designs best on both metrics, generalists rare) and, beyond the paper, whether the theory's
+    ranking of designs carries over (Spearman rho with a 95 % bootstrap interval)."""
+    from morphlearn import compare, metrics
+
+    t = empirical.table
+    n = len(t)
+    both = compare.joined(theory.table, t)
+    agree = compare.agreement(both)
+    top_l, top_cf = metrics.rank_designs(t, "M_L"), metrics.rank_designs(t, "M_CF")
+    best = top_l.iloc[0]
+    canon = metrics.find_row(t, gridmod.canonical_design())
+    with_g = int((t.generalists > 0).sum())
+    canon_rank = ("canonical not simulated" if canon is None else
+                  f"{metrics.rank_of(t, canon, 'M_L')} by M_L, {metrics.rank_of(t, canon, 'M_CF')} by M_CF "
+                  f"(of {n}; ties share a rank)")  # fmt: skip
+    same = int(best.design) == int(top_cf.iloc[0].design)
+    mirror_l, mirror_cf = (gridmod.DesignGrid(empirical.positions_per_axis).mirror(int(r.design))
+                           for r in (best, top_cf.iloc[0]))  # fmt: skip
+    same_pair = same or int(mirror_l) == int(top_cf.iloc[0].design) or int(mirror_cf) == int(best.design)
+    top3 = "; ".join(f"{fd.design_label(*fd.row_design(r))} (M_L {r.M_L:.4g}, M_CF {r.M_CF:.4g})"
+                     for _, r in top_l.head(3).iterrows())  # fmt: skip
+    items = [
+        ("survey_share_with_generalist", "empirical survey: designs with at least one generalist",
+         "(not stated)", f"{with_g} of {n} ({with_g / n:.1%})"),
+        ("survey_best_designs", "empirical survey: the best designs by M_L", "(Fig. 3C, not as coordinates)", top3),
+        ("survey_canonical_rank", "empirical survey: the canonical design's rank",
+         "below the best asymmetric design on both metrics", canon_rank),
+        ("survey_best_on_both", "empirical survey: one design (or mirror pair) best by both M_L and M_CF", "yes",
+         "yes" if same_pair else f"no (best by M_CF: {fd.design_label(*fd.row_design(top_cf.iloc[0]))})"),
+        ("survey_rho_M_L", "theory vs physics: Spearman rho of M_L over designs", BEYOND_MODELS,
+         agree["M_L"].text()),
+        ("survey_rho_M_CF", "theory vs physics: Spearman rho of M_CF over designs", BEYOND_MODELS,
+         agree["M_CF"].text()),
+    ]  # fmt: skip
+    note = f"empirical: {science_summary(empirical)}"
+    return [{"key": k, "quantity": q, "paper": p, "ours": o, "config": config_name, "note": note}
+            for k, q, p, o in items]  # fmt: skip
 
 
 def _frac(n: int, m: int) -> str:
@@ -199,6 +249,8 @@ def reproduction_table(theory: fd.ModelResults | None, empirical: fd.ModelResult
         value, note = ours.get(key, (NOT_RUN, ""))
         rows.append({"key": key, "quantity": quantity, "paper": paper, "ours": value,
                      "config": _config(res, config_name), "note": note})  # fmt: skip
+    if is_survey(theory, empirical):
+        rows += survey_rows(theory, empirical, config_name)
     if learners is not None:
         rows += learner_rows(learners, config_name)
     return pd.DataFrame(rows, columns=COLUMNS)

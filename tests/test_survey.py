@@ -1,0 +1,93 @@
+"""The survey path end to end, at toy size: every design simulated in both models (with all three
+levers on), the theory-vs-physics figure and table rows, its bundle, and a second run that reads
+the bundle's empirical results (``empirical.results_from``) instead of simulating. ~2 min."""
+
+from __future__ import annotations
+
+import shutil
+from pathlib import Path
+
+import pandas as pd
+import pytest
+import yaml
+
+from conftest import copy_workflow, job_stats, snakemake
+from morphlearn import bundle
+
+# 81 designs (45 simulated with mirror derivation), 2 x 2 weights, a near light and a short
+# horizon so that some controllers succeed in seconds of CPU.
+SURVEY = {
+    "results_dir": "results/survey-run",
+    "bundle_dir": "results/survey",
+    "grid": {"positions_per_axis": 3, "weights": 5},
+    "sweep": {"shards": 2, "threads": 1},
+    "analysis": {"top": 3},
+    "empirical": {"designs": "all", "weights": 3, "mirror_derive": True, "early_stop": True,
+                  "adaptive_weights": True, "shards": 2, "params": {"light_distance": 2.5, "steps": 300}},
+}  # fmt: skip
+
+
+@pytest.fixture(scope="module")
+def survey_run(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    wd = copy_workflow(tmp_path_factory.mktemp("survey"))
+    (wd / "survey.yaml").write_text(yaml.safe_dump(SURVEY))
+    snakemake(wd, "all", "bundle", "--cores", "2", "--configfile", "survey.yaml")
+    return wd
+
+
+def test_survey_figure_table_and_bundle(survey_run: Path) -> None:
+    r = survey_run / "results" / "survey-run"
+    assert (r / "figures" / "survey.png").stat().st_size > 20_000
+    cap = (r / "figures" / "survey.caption.md").read_text()
+    assert "Spearman" in cap and "81 designs" in cap
+    assert "weight grid refined adaptively" in cap and "the other derived" in cap  # the levers are said
+    table = pd.read_csv(r / "reproduction.csv")
+    rows = table.set_index("key")
+    for key in ("survey_share_with_generalist", "survey_canonical_rank", "survey_rho_M_L", "survey_rho_M_CF"):
+        assert key in rows.index and rows.at[key, "ours"] != "not in this run"
+    assert "bootstrap interval, 81 designs" in rows.at["survey_rho_M_L", "ours"]
+    emp = pd.read_csv(r / "empirical" / "metrics.csv")
+    assert len(emp) == 81 and emp.flagged.sum() == 0  # inferred cells are not "flagged"
+    out = survey_run / "results" / "survey"
+    assert bundle.check(out) == []
+    assert (out / "figures" / "survey.png").is_file()
+
+
+def test_results_from_reads_the_bundle(survey_run: Path, tmp_path: Path) -> None:
+    """A run with empirical.results_from copies the bundle's empirical results (checked), simulates
+    no empirical episode, and draws the survey figure from them; a damaged bundle is refused."""
+    wd = copy_workflow(tmp_path / "reader")
+    shutil.copytree(survey_run / "results" / "survey", wd / "results" / "survey")
+    cfg = {k: SURVEY[k] for k in ("grid", "sweep", "analysis")}
+    cfg |= {"results_dir": "results/reader", "empirical": {"results_from": "results/survey"}}
+    (wd / "reader.yaml").write_text(yaml.safe_dump(cfg))
+    dry = snakemake(wd, "-n", "--cores", "2", "--configfile", "reader.yaml")
+    jobs = job_stats(dry.stdout)
+    assert jobs.get("empirical_from_bundle") == 1 and "empirical_shard" not in jobs and "figure_survey" in jobs
+    snakemake(wd, "--cores", "2", "--configfile", "reader.yaml")
+    got = pd.read_csv(wd / "results" / "reader" / "empirical" / "metrics.csv")
+    pd.testing.assert_frame_equal(got, pd.read_csv(survey_run / "results" / "survey" / "empirical" / "metrics.csv"))
+    assert (wd / "results" / "reader" / "figures" / "survey.png").is_file()
+    # a flipped byte in the bundle's metrics: the copy is refused, by file name
+    m = wd / "results" / "survey" / "empirical" / "metrics.csv"
+    b = bytearray(m.read_bytes())
+    b[-3] ^= 1
+    m.write_bytes(b)
+    cfg["results_dir"] = "results/reader2"
+    (wd / "reader2.yaml").write_text(yaml.safe_dump(cfg))
+    bad = snakemake(wd, "--cores", "2", "--configfile", "reader2.yaml", check=False)
+    assert bad.returncode != 0
+    log = (wd / "results" / "reader2" / "logs" / "empirical" / "from_bundle.log").read_text()
+    assert "metrics.csv: checksum differs" in log
+    assert not (wd / "results" / "reader2" / "empirical" / "metrics.csv").exists()  # nothing half-written
+
+
+def test_results_from_bad_values_are_named(tmp_path: Path) -> None:
+    from morphlearn import config as cfgmod
+
+    root = Path(__file__).resolve().parents[1]
+    base = cfgmod.load(root / "config.yaml")
+    with pytest.raises(cfgmod.ConfigError, match=r"empirical\.results_from = 'nowhere': nowhere/bundle\.json is missing"):
+        cfgmod.validate(cfgmod.deep_merge(base, {"empirical": {"results_from": "nowhere"}}))
+    with pytest.raises(cfgmod.ConfigError, match=r"holds results on the 9-point grid; allowed: .* = 5"):
+        cfgmod.validate(cfgmod.deep_merge(base, {"empirical": {"results_from": str(root / "results" / "paper")}}))
