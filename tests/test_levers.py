@@ -174,6 +174,8 @@ def test_rank_agreement_and_sensor_use() -> None:
     n = compare.agreement(noisy, n_resamples=300)["M_L"]
     assert n.low < n.rho < n.high and n.low < 0.5
     assert compare.agreement(noisy, n_resamples=300)["M_L"] == n  # seeded: same interval
+    flat = compare.joined(t, _table(np.zeros(30), np.zeros(30)))
+    assert "undefined" in compare.agreement(flat, n_resamples=50)["M_L"].text()
     assert same.rank_M_L_theory.tolist() == list(range(30, 0, -1))  # best (largest) ranks 1
     use = compare.sensor_use(t, 4)
     assert use["count"].sum() == 8 and len(use) == 9  # 4 designs x 2 sensors on the 3 x 3 positions

@@ -51,6 +51,8 @@ class RankAgreement:
     level: float
 
     def text(self) -> str:
+        if np.isnan(self.rho):
+            return f"undefined (one model gives every one of the {self.n} designs the same value)"
         interval = f"{self.level:.0%} bootstrap interval, {self.n} designs"
         return f"{self.rho:.3f} [{self.low:.3f}, {self.high:.3f}] ({interval})"
 
