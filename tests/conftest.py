@@ -13,11 +13,12 @@ import pytest
 
 ROOT = Path(__file__).resolve().parents[1]
 WORKFLOW_FILES = ("Snakefile", "config.yaml", "config", "workflow", "src", "envs", "notebooks",
-                  "profiles")  # fmt: skip
+                  "profiles", "results/survey")  # fmt: skip
 
 
 def copy_workflow(dest: Path) -> Path:
-    """Copy what a user's clone holds (no results) into ``dest``."""
+    """Copy what a user's clone holds (no results but the committed survey bundle, which the
+    default config reads) into ``dest``."""
     dest.mkdir(parents=True, exist_ok=True)
     for name in WORKFLOW_FILES:
         src = ROOT / name

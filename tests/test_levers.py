@@ -15,7 +15,7 @@ from morphlearn import compare, metrics
 from morphlearn.empirical import EmpiricalParams, EpisodeRunner, evaluate_design, load_params
 from morphlearn.empirical.options import SweepOptions
 from morphlearn.empirical.reach import ReachBound, centre_factor
-from morphlearn.empirical.refine import lattice, refine_mask
+from morphlearn.empirical.refine import lattice, refine_mask, replay_mask
 from morphlearn.results import STATUS_INFERRED, STATUS_NONFINITE, STATUS_OK
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -111,6 +111,14 @@ def test_lattice_and_refinement_replay() -> None:
     near = np.zeros((11, 11), bool)
     near[4, 4] = True  # ...unless a lattice neighbour came near the light
     assert refine_mask(lone, near)[3, 5]
+
+
+def test_vectorised_replay_equals_the_refinement() -> None:
+    rng = np.random.default_rng(3)
+    for m, stride, p in ((11, 2, 0.15), (13, 3, 0.3), (9, 2, 0.05)):
+        succ, near = rng.random((2, 6, m, m)) < p
+        want = np.stack([refine_mask(s, n, stride) for s, n in zip(succ, near, strict=True)])
+        np.testing.assert_array_equal(replay_mask(succ | near, stride), want)
 
 
 def test_adaptive_design_marks_inferred_cells(params: EmpiricalParams) -> None:

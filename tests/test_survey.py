@@ -10,8 +10,8 @@ from pathlib import Path
 import pandas as pd
 import pytest
 import yaml
-
 from conftest import copy_workflow, job_stats, snakemake
+
 from morphlearn import bundle
 
 # 81 designs (45 simulated with mirror derivation), 2 x 2 weights, a near light and a short
@@ -88,7 +88,8 @@ def test_results_from_bad_values_are_named(tmp_path: Path) -> None:
 
     root = Path(__file__).resolve().parents[1]
     base = cfgmod.load(root / "config.yaml")
-    with pytest.raises(cfgmod.ConfigError, match=r"empirical\.results_from = 'nowhere': nowhere/bundle\.json is missing"):
+    missing = r"empirical\.results_from = 'nowhere': nowhere/bundle\.json is missing"
+    with pytest.raises(cfgmod.ConfigError, match=missing):
         cfgmod.validate(cfgmod.deep_merge(base, {"empirical": {"results_from": "nowhere"}}))
     with pytest.raises(cfgmod.ConfigError, match=r"holds results on the 9-point grid; allowed: .* = 5"):
         cfgmod.validate(cfgmod.deep_merge(base, {"empirical": {"results_from": str(root / "results" / "paper")}}))

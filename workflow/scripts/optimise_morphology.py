@@ -19,7 +19,7 @@ budget = cfg["empirical"]["optimise"]
 pareto, chosen = optimise.optimise(budget["evaluations"], budget["seed"], workers=snakemake.threads)  # noqa: F821
 out = snakemake.output  # noqa: F821
 with store.atomic_path(out.pareto) as tmp:
-    pareto.to_csv(tmp, index=False, float_format="%.10g")
+    pareto.to_csv(tmp, index=False)  # full precision: a row is a body (the dynamics are sensitive)
 with store.atomic_path(out.chosen) as tmp:
     tmp.write_text(optimise.morphology_yaml(pareto, chosen, budget_evals=budget["evaluations"],
                                             seed=budget["seed"]))  # fmt: skip

@@ -20,6 +20,7 @@ import pandas as pd
 from morphlearn import config as cfgmod
 from morphlearn import design_cache, store
 from morphlearn.grid import DesignGrid, split_shards
+from morphlearn.metrics import CSV_FLOAT_FORMAT
 
 if TYPE_CHECKING:
     from morphlearn.learners import protocols
@@ -121,7 +122,7 @@ def run_shard(cfg: dict[str, Any], shard: int, out: str | Path) -> None:
               f"{cpu:.1f} CPU-s for {len(part)})", flush=True)  # fmt: skip
     table = pd.concat([done[int(d)] for d in mine], ignore_index=True)
     with store.atomic_path(Path(out)) as tmp:
-        table.to_csv(tmp, index=False, float_format="%.10g")
+        table.to_csv(tmp, index=False, float_format=CSV_FLOAT_FORMAT)
 
 
 def run_analysis(cfg: dict[str, Any], shard_csvs: list[str], metrics_csv: str, out_runs: str | Path,
@@ -143,7 +144,7 @@ def run_analysis(cfg: dict[str, Any], shard_csvs: list[str], metrics_csv: str, o
     corr = stats.correlations(merged, metrics, n_boot=s.bootstrap, seed=s.seed)
     for path, table in ((out_runs, merged), (out_corr, corr)):
         with store.atomic_path(Path(path)) as tmp:
-            table.to_csv(tmp, index=False, float_format="%.10g")
+            table.to_csv(tmp, index=False, float_format=CSV_FLOAT_FORMAT)
     with store.atomic_path(Path(out_md)) as tmp:
         tmp.write_text(summary_markdown(corr, s, merged.design.nunique()))
 
