@@ -189,3 +189,17 @@ def test_rank_agreement_and_sensor_use() -> None:
     assert use["count"].sum() == 8 and len(use) == 9  # 4 designs x 2 sensors on the 3 x 3 positions
     with pytest.raises(ValueError, match="different grids"):
         compare.joined(t, t.assign(l1x=t.l1x + 0.1))
+
+
+def test_compare_cli(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    from morphlearn.cli import main
+
+    x = np.linspace(0, 1, 20)
+    _table(x, x).to_csv(tmp_path / "a.csv", index=False)
+    _table(x[::-1], x).to_csv(tmp_path / "b.csv", index=False)
+    assert main(["compare", str(tmp_path / "a.csv"), str(tmp_path / "b.csv"), "--resamples", "100", "--top", "3"]) == 0
+    out = capsys.readouterr().out
+    assert "M_L: Spearman rho -1.000" in out and "M_CF: Spearman rho 1.000" in out
+    assert "top 3 by M_L shared: 0" in out and "top 3 by M_CF shared: 3" in out
+    assert main(["compare", str(tmp_path / "nope.csv"), str(tmp_path / "b.csv")]) == 2
+    assert "nope.csv: no such file" in capsys.readouterr().err

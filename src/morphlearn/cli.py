@@ -161,6 +161,38 @@ def cmd_check_bundle(a: argparse.Namespace) -> int:
     return 1 if problems else 0
 
 
+def cmd_compare(a: argparse.Namespace) -> int:
+    """Rank agreement of two metrics tables over the designs both hold (theory vs physics, or one
+    body vs another)."""
+    from pathlib import Path
+
+    import pandas as pd
+
+    from morphlearn import compare, metrics
+
+    tables = []
+    for path in (a.a, a.b):
+        if not Path(path).is_file():
+            raise UsageError(f"{path}: no such file (a metrics table, e.g. results/survey/empirical/metrics.csv)")
+        tables.append(pd.read_csv(path, comment="#"))
+    both = compare.joined(*tables)
+    if len(both) < 3:
+        raise UsageError(f"the two tables share {len(both)} designs; need at least 3")
+    agree = compare.agreement(both, a.resamples)
+    out = {"designs": len(both)}
+    for m, r in agree.items():
+        out[m] = {"rho": r.rho, "low": r.low, "high": r.high}
+        top_a = set(metrics.rank_designs(tables[0][tables[0].design.isin(both.design)], m).design[: a.top])
+        top_b = set(metrics.rank_designs(tables[1][tables[1].design.isin(both.design)], m).design[: a.top])
+        out[m]["top_shared"] = len(top_a & top_b)
+        print(f"{m}: Spearman rho {r.text()}; top {a.top} by {m} shared: {len(top_a & top_b)}")
+    if a.json:
+        import json
+
+        print(json.dumps(out))
+    return 0
+
+
 class _Version(argparse.Action):
     """``--version``: package version and git commit (looked up only when asked: git is a subprocess)."""
 
@@ -206,6 +238,13 @@ def build_parser() -> argparse.ArgumentParser:
                    help="also re-simulate these theory designs and compare them exactly: canonical, "
                         "best_M_L, best_M_CF or design indices (paper resolution: a few seconds each)")  # fmt: skip
     b.set_defaults(func=cmd_check_bundle)
+    c = sub.add_parser("compare", help="rank agreement (Spearman, bootstrap interval) of two metrics tables")
+    c.add_argument("a", metavar="METRICS_A", help="a metrics.csv (e.g. results/survey/theory/metrics.csv)")
+    c.add_argument("b", metavar="METRICS_B", help="another, on the same design grid")
+    c.add_argument("--resamples", type=int, default=2000, metavar="N", help="bootstrap resamples (2000)")
+    c.add_argument("--top", type=int, default=10, metavar="K", help="also count shared top-K designs (10)")
+    c.add_argument("--json", action="store_true", help="also print one JSON object")
+    c.set_defaults(func=cmd_compare)
     for parser in (p, d, v):  # argparse takes '-5e-1' for an option: accept every negative number
         parser._negative_number_matcher = _NEGATIVE_NUMBER
     return p
