@@ -63,6 +63,8 @@ SCENARIO_STEPS = {
     "figures": (["scenario_report"], ["scenario_report"]),
 }  # fmt: skip
 SCENARIOS = ("--config", "scenario_file=s.yaml", "scenarios=all")
+# A run that reads the empirical results of the bundle the figures step made (empirical.results_from).
+READER_STEP = ("analysis", ["empirical_from_bundle"], ["results/reader/empirical/metrics.csv"])
 
 
 def build_env(name: str, dest: Path) -> Path:
@@ -82,6 +84,7 @@ def test_every_conda_rule_is_run() -> None:
         text = smk.read_text()
         for name, env in re.findall(r'rule (\w+):\n(?:.*\n)*?\s+conda:\s*\n\s*"\.\./\.\./envs/(\w+)\.yaml"', text):
             run = SMOKE_STEPS[env][0] + SCENARIO_STEPS.get(env, ([], []))[0]
+            run = run + (READER_STEP[1] if env == READER_STEP[0] else [])
             assert name in run, f"{smk.name}: rule {name} (envs/{env}.yaml) is not run"
     # the figure rules are made in a loop (rule name f"figure_{_fig}"): all name envs/figures.yaml
     assert '"../../envs/figures.yaml"' in (ROOT / "workflow/rules/figures.smk").read_text()
@@ -101,10 +104,10 @@ def test_each_env_runs_its_rules(tmp_path: Path) -> None:
     (wd / "s.yaml").write_text("base: {}\nshort:\n  theory:\n    horizon: 200.0\n")
     pythons = {env: build_env(env, tmp_path / "envs" / env) for env in SMOKE_STEPS}
 
-    def run(env: str, *args: str) -> dict[str, int]:
+    def run(env: str, *args: str, configs: tuple[str, ...] = CONFIGS) -> dict[str, int]:
         # args before --configfile, which takes every following word as a config file
         proc = subprocess.run([str(pythons[env]), "-m", "snakemake", *args, "--cores", "2", "--configfile",
-                               *CONFIGS], cwd=wd, capture_output=True, text=True, timeout=900,
+                               *configs], cwd=wd, capture_output=True, text=True, timeout=900,
                               env=dict(os.environ, MORPHLEARN_GIT_COMMIT="test"))  # fmt: skip
         logs = "\n".join(p.read_text()[-1500:] for p in sorted((wd / "results").rglob("logs/**/*.log")))
         assert proc.returncode == 0, f"envs/{env}.yaml {args}:\n{proc.stderr[-3000:]}\n{logs}"
@@ -117,6 +120,9 @@ def test_each_env_runs_its_rules(tmp_path: Path) -> None:
         # run are the step's own rules, since earlier steps made everything upstream.
         ran = run(env, *SCENARIOS, "--until", *until)
         assert set(ran) - {"scenarios", "all"} == set(rules), (env, ran)
+    (wd / "reader.yaml").write_text("results_dir: results/reader\nempirical:\n  results_from: results/bundle\n")
+    env, rules, targets = READER_STEP
+    assert run(env, *targets, "--allowed-rules", *rules, configs=(*CONFIGS, "reader.yaml")) == {rules[0]: 1}
     # Together the environments made the workflow: the main environment has nothing left to do
     # (nothing made in an environment is out of date).
     for extra in ((), SCENARIOS):
