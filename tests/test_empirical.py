@@ -196,3 +196,17 @@ def test_mirror_derive_simulates_one_of_each_pair(tmp_path: Path) -> None:
         np.testing.assert_array_equal(v, b[k])
     with pytest.raises(cfgmod.ConfigError, match=r"empirical\.mirror_derive = true needs"):
         cfgmod.validate(cfgmod.deep_merge(cfg, {"empirical": {"include_mirrors": False}}))
+
+
+def test_committed_pareto_set_holds_both_bodies() -> None:
+    """config/empirical_pareto.csv (regenerated with the committed budget and seed) holds the
+    chosen body exactly, and the second body of the robustness check is one of its Pareto points."""
+    from morphlearn.empirical.optimise import VARIABLES
+
+    table = pd.read_csv(MORPHOLOGY.parent / "empirical_pareto.csv")
+    chosen = table[table.chosen].iloc[0]
+    body = load_params(MORPHOLOGY)
+    assert all(float(chosen[k]) == getattr(body, k) for k in VARIABLES)
+    body2 = load_params(MORPHOLOGY.parent / "empirical_morphology_body2.yaml")
+    hit = table[np.logical_and.reduce([table[k] == getattr(body2, k) for k in VARIABLES])]
+    assert len(hit) == 1 and bool(hit.iloc[0].pareto) and int(hit.iloc[0].n_success) == 4
