@@ -275,13 +275,15 @@ def check(out_dir: str | Path) -> list[str]:
             problems.append(f"{p}: checksum differs from {MANIFEST} (changed or damaged)")
     for p in _files(out_dir):
         rel = str(p.relative_to(out_dir))
-        if rel not in listed and not rel.startswith(_RENDERED):
+        rendered = rel.startswith(_RENDERED) or (rel.startswith("figures/") and rel.endswith(".html"))
+        if rel not in listed and not rendered:
             problems.append(f"{p}: not listed in {MANIFEST}")
     return problems
 
 
-#: What a re-render writes beside the bundle's files (logs, benchmarks, notebook HTML).
-_RENDERED = ("logs/", "benchmarks/", "figures/fig", ".snakemake")
+#: What a re-render writes beside the bundle's files (logs, benchmarks, and figures/*.html: the
+#: executed notebooks).
+_RENDERED = ("logs/", "benchmarks/", ".snakemake")
 
 
 def readme(manifest: dict[str, Any], run_dir: Path, cost: pd.DataFrame) -> str:
