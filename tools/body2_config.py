@@ -20,7 +20,7 @@ HEAD = """# Robustness to the body (issue 12): the survey (config/survey.yaml) r
 # with a second body from the committed Pareto set (config/empirical_morphology_body2.yaml).
 # Designs (written by tools/body2_config.py from the survey's empirical metrics): the 13 best by
 # M_L and 12 drawn at random (seed 0) from the rest, each with its mirror image.
-#   run it:   snakemake results/survey-body2/empirical/metrics.csv --cores 2 \
+#   run it:   snakemake results/survey-body2/empirical/metrics.csv --cores 2 \\
 #                 --configfile config/survey.yaml config/survey_body2.yaml
 #   compare:  morphlearn compare results/survey/empirical/metrics.csv results/survey-body2/empirical/metrics.csv
 """
