@@ -113,7 +113,9 @@ def build(run_dir: str | Path, out_dir: str | Path, *, positions_per_axis: int, 
                 shutil.copy2(run_dir / model / name, tmp / model / name)
             table = pd.read_csv(run_dir / model / "metrics.csv")
             n = positions_per_axis if model == "theory" else positions_of(run_dir / model)
-            designs = drawn_designs(table, n, top) if model == "theory" else np.sort(table.design)
+            # every design of the grid (theory, or the empirical survey): only the drawn ones' arrays
+            every = model == "theory" or len(table) == n**4
+            designs = drawn_designs(table, n, top) if every else np.sort(table.design)
             src = run_dir / model / "merged.zarr"
             store.write_subset(src, designs, tmp / model / "merged.zarr")
             subsets[model] = {"designs": [int(d) for d in designs], "of": len(table),
