@@ -58,9 +58,9 @@ def test_results_from_reads_the_bundle(survey_run: Path, tmp_path: Path) -> None
     """A run with empirical.results_from copies the bundle's empirical results (checked), simulates
     no empirical episode, and draws the survey figure from them; a damaged bundle is refused."""
     wd = copy_workflow(tmp_path / "reader")
-    shutil.copytree(survey_run / "results" / "survey", wd / "results" / "survey")
+    shutil.copytree(survey_run / "results" / "survey", wd / "results" / "toy-survey")
     cfg = {k: SURVEY[k] for k in ("grid", "sweep", "analysis")}
-    cfg |= {"results_dir": "results/reader", "empirical": {"results_from": "results/survey"}}
+    cfg |= {"results_dir": "results/reader", "empirical": {"results_from": "results/toy-survey"}}
     (wd / "reader.yaml").write_text(yaml.safe_dump(cfg))
     dry = snakemake(wd, "-n", "--cores", "2", "--configfile", "reader.yaml")
     jobs = job_stats(dry.stdout)
@@ -70,7 +70,7 @@ def test_results_from_reads_the_bundle(survey_run: Path, tmp_path: Path) -> None
     pd.testing.assert_frame_equal(got, pd.read_csv(survey_run / "results" / "survey" / "empirical" / "metrics.csv"))
     assert (wd / "results" / "reader" / "figures" / "survey.png").is_file()
     # a flipped byte in the bundle's metrics: the copy is refused, by file name
-    m = wd / "results" / "survey" / "empirical" / "metrics.csv"
+    m = wd / "results" / "toy-survey" / "empirical" / "metrics.csv"
     b = bytearray(m.read_bytes())
     b[-3] ^= 1
     m.write_bytes(b)
