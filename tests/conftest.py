@@ -13,12 +13,11 @@ import pytest
 
 ROOT = Path(__file__).resolve().parents[1]
 WORKFLOW_FILES = ("Snakefile", "config.yaml", "config", "workflow", "src", "envs", "notebooks",
-                  "profiles", "results/survey")  # fmt: skip
+                  "profiles")  # fmt: skip
 
 
 def copy_workflow(dest: Path) -> Path:
-    """Copy what a user's clone holds (no results but the committed survey bundle, which the
-    default config reads) into ``dest``."""
+    """Copy what a user's clone holds (no results) into ``dest``."""
     dest.mkdir(parents=True, exist_ok=True)
     for name in WORKFLOW_FILES:
         src = ROOT / name
