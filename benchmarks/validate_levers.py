@@ -19,6 +19,7 @@ designs are kept), ``--jobs`` processes (one pybullet client each).
 Usage::
 
     python benchmarks/validate_levers.py run OUT --pairs 21 --jobs 2
+    python benchmarks/validate_levers.py run OUT --designs 3,17,40   # chosen designs instead
     python benchmarks/validate_levers.py report OUT [--csv per_design.csv]
 """
 
@@ -34,7 +35,7 @@ import numpy as np
 
 from morphlearn.empirical import load_params
 from morphlearn.empirical.episode import EpisodeRunner
-from morphlearn.empirical.refine import DEFAULT_NEAR, DEFAULT_STRIDE, refine_mask
+from morphlearn.empirical.refine import DEFAULT_NEAR, DEFAULT_STRIDE, replay_mask
 from morphlearn.grid import ENV_MIRROR, DesignGrid, weights
 
 PAPER_BEST = ((-0.5, -0.25), (0.5, 0.25))
@@ -84,7 +85,7 @@ def simulate(args: tuple[int, str, str, int]) -> str:
 
 def run(a: argparse.Namespace) -> None:
     Path(a.out).mkdir(parents=True, exist_ok=True)
-    designs = sample_designs(a.pairs, a.seed)
+    designs = sample_designs(a.pairs, a.seed) if a.designs is None else sorted(set(a.designs))
     print(f"{len(designs)} designs x {4 * a.weights**2} episodes, {a.jobs} processes", flush=True)
     jobs = [(d, a.out, a.morphology, a.weights) for d in designs]
     with mp.Pool(a.jobs) as pool:
@@ -102,15 +103,15 @@ def report(a: argparse.Namespace) -> None:
     steps_all = steps_es = steps_ad = 0
     ad_missed = ad_sim = 0
     rows = []
+    contact = load_params(a.morphology).contact_distance
     for d, r in sorted(data.items()):
         first, steps, hop = r["first"], r["steps"], r["hopeless"]
         succ = np.isfinite(first)
         contact_step = np.where(succ, steps, -1)
         flip = succ & (hop >= 0) & (hop < contact_step)
         es_steps = np.where(hop >= 0, np.minimum(hop, steps), steps)
-        contact = load_params(a.morphology).contact_distance
         near = r["dist"] <= a.near * contact
-        mask = np.stack([refine_mask(s, n, a.stride) for s, n in zip(succ, near, strict=True)])
+        mask = replay_mask(succ | near, a.stride)
         missed = succ & ~mask
         n_ep += succ.size
         n_succ += int(succ.sum())
@@ -158,6 +159,8 @@ def main() -> None:
     r.add_argument("out")
     r.add_argument("--pairs", type=int, default=21)
     r.add_argument("--seed", type=int, default=0)
+    r.add_argument("--designs", type=lambda v: [int(x) for x in v.split(",")],
+                   help="comma-separated design indices instead of the seeded sample")  # fmt: skip
     r.add_argument("--jobs", type=int, default=2)
     r.add_argument("--weights", type=int, default=11)
     r.add_argument("--morphology", default="config/empirical_morphology.yaml")

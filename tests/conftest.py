@@ -13,11 +13,12 @@ import pytest
 
 ROOT = Path(__file__).resolve().parents[1]
 WORKFLOW_FILES = ("Snakefile", "config.yaml", "config", "workflow", "src", "envs", "notebooks",
-                  "profiles")  # fmt: skip
+                  "profiles", "results/survey")  # fmt: skip
 
 
 def copy_workflow(dest: Path) -> Path:
-    """Copy what a user's clone holds (no results) into ``dest``."""
+    """Copy what a user's clone holds (no results but the committed survey bundle, which the
+    default config reads) into ``dest``."""
     dest.mkdir(parents=True, exist_ok=True)
     for name in WORKFLOW_FILES:
         src = ROOT / name
@@ -26,6 +27,13 @@ def copy_workflow(dest: Path) -> Path:
         elif src.exists():
             shutil.copy2(src, dest / name)
     return dest
+
+
+def written_results(workdir: Path) -> list[Path]:
+    """What a run wrote under ``results/`` (the committed bundles a clone holds excluded)."""
+    root = workdir / "results"
+    kept = {Path(n).name for n in WORKFLOW_FILES if n.startswith("results/")}
+    return sorted(p for p in root.iterdir() if p.name not in kept) if root.exists() else []
 
 
 def snakemake(

@@ -6,7 +6,7 @@ from pathlib import Path
 
 import pytest
 import yaml
-from conftest import ROOT, copy_workflow, snakemake
+from conftest import ROOT, copy_workflow, snakemake, written_results
 
 from morphlearn import config
 
@@ -66,4 +66,4 @@ def test_workflow_refuses_bad_config_and_writes_nothing(tmp_path: Path, override
     proc = snakemake(wd, "--cores", "1", "--configfile", "bad.yaml", check=False)
     assert proc.returncode == 2, proc.stderr[-2000:]
     assert needle in proc.stderr
-    assert not (wd / "results").exists() or not any((wd / "results").iterdir())
+    assert written_results(wd) == []

@@ -7,7 +7,7 @@ import shutil
 from pathlib import Path
 
 import pandas as pd
-from conftest import copy_workflow, job_stats, snakemake
+from conftest import copy_workflow, job_stats, snakemake, written_results
 
 from morphlearn.figures.reproduction import BEYOND
 
@@ -52,4 +52,4 @@ def test_bad_learner_config_stops_with_one_line(tmp_path: Path) -> None:
     proc = snakemake(wd, "-n", "--configfile", "config/smoke.yaml", "bad.yaml", check=False)
     assert proc.returncode == 2
     assert "learners.budget = 0 is invalid" in proc.stderr
-    assert not (wd / "results").exists()
+    assert written_results(wd) == []

@@ -153,7 +153,9 @@ def test_options_enter_the_science_record_only_when_on() -> None:
     on = cfgmod.empirical_science(cfgmod.validate(cfgmod.deep_merge(off, {"empirical": {
         "early_stop": True, "adaptive_weights": True}})), {})  # fmt: skip
     assert on["early_stop"] == {"margin": 2.0, "check_every": 10}
-    assert on["adaptive_weights"] == {"stride": 2, "near": 1.5}
+    assert on["adaptive_weights"] == {"stride": 2, "near": 4.0}
+    survey = cfgmod.load(ROOT / "config.yaml", [ROOT / "config/survey.yaml"])
+    assert cfgmod.empirical_science(survey, {})["adaptive_weights"]["near"] == 1.5  # its bundle's record
     paper = cfgmod.load(ROOT / "config.yaml", [ROOT / "config/paper.yaml"])
     assert "early_stop" not in cfgmod.empirical_science(paper, {})  # the committed bundle's record
 

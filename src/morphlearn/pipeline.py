@@ -193,8 +193,8 @@ def check_render_inputs(paths: list[str]) -> None:
 
 
 def thresholds(cfg: dict[str, Any], model: str) -> metrics.Thresholds:
-    src = cfg["empirical"].get("results_from")
-    if model == "empirical" and src is not None:  # the bundle's own, as its metrics were made
+    src = cfg.get("empirical", {}).get("results_from") if model == "empirical" else None
+    if src is not None:  # the bundle's own, as its metrics were made
         prov = json.loads((Path(src) / "empirical" / "metrics.provenance.json").read_text())
         return metrics.Thresholds(**prov["config"]["thresholds"])
     if model == "empirical":  # success = touching the light within the episode

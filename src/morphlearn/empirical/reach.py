@@ -58,7 +58,7 @@ class ReachBound:
         x = self.c + self.STEP * np.arange(int(self.EXTENT / self.STEP) + 1)
         self.speed = self._targets(x)  # non-increasing in x
         with np.errstate(divide="ignore"):
-            inv = np.where(self.speed > 0, 1.0 / np.where(self.speed > 0, self.speed, 1.0), np.inf)
+            inv = 1.0 / self.speed  # a zero speed bound: +inf (never reached)
         self.inv = inv
         # time[i]: lower bound of the time from x[i] to c at the target bound alone (left sums).
         self.time = np.concatenate([[0.0], np.cumsum(inv[:-1] * self.STEP)])

@@ -43,9 +43,10 @@ def science_summary(res: ModelResults) -> str:
     pr = sci.get("params", {})
     how = ("one of each mirror pair simulated, the other derived" if sci.get("mirror_derive")
            else "simulated")  # fmt: skip
-    if sci.get("adaptive_weights"):
-        how += (", weight grid refined adaptively (cells not simulated count as failures; "
-                "measured miss rate in docs/empirical.md)")  # fmt: skip
+    if ad := sci.get("adaptive_weights"):
+        how += (f", weight grid refined adaptively around successes and near misses (within "
+                f"{ad.get('near')} contact distances; cells not simulated count as failures; "
+                "measured miss rate in docs/empirical_levers.md)")  # fmt: skip
     return (f"{res.n_designs} designs {how} on the {sci.get('positions_per_axis')}-point grid, "
             f"{m} weights per synapse; light distance {pr.get('light_distance', float('nan')):.4g}, "
             f"{pr.get('steps')} steps of dt = {pr.get('dt')}, success = touching the light; body "
