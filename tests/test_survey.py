@@ -18,11 +18,11 @@ from morphlearn import bundle
 # horizon so that some controllers succeed in seconds of CPU.
 SURVEY = {
     "results_dir": "results/survey-run",
-    "bundle_dir": "results/survey",
+    "bundle_dir": "results/toy-survey",  # not results/survey: the committed survey is in the clone
     "grid": {"positions_per_axis": 3, "weights": 5},
     "sweep": {"shards": 2, "threads": 1},
     "analysis": {"top": 3},
-    "empirical": {"designs": "all", "weights": 3, "mirror_derive": True, "early_stop": True,
+    "empirical": {"results_from": None, "designs": "all", "weights": 3, "mirror_derive": True, "early_stop": True,
                   "adaptive_weights": True, "shards": 2, "params": {"light_distance": 2.5, "steps": 300}},
 }  # fmt: skip
 
@@ -49,7 +49,7 @@ def test_survey_figure_table_and_bundle(survey_run: Path) -> None:
     assert "81 designs" in rows.at["survey_rho_M_L", "ours"]
     emp = pd.read_csv(r / "empirical" / "metrics.csv")
     assert len(emp) == 81 and emp.flagged.sum() == 0  # inferred cells are not "flagged"
-    out = survey_run / "results" / "survey"
+    out = survey_run / "results" / "toy-survey"
     assert bundle.check(out) == []
     assert (out / "figures" / "survey.png").is_file()
 
@@ -58,7 +58,7 @@ def test_results_from_reads_the_bundle(survey_run: Path, tmp_path: Path) -> None
     """A run with empirical.results_from copies the bundle's empirical results (checked), simulates
     no empirical episode, and draws the survey figure from them; a damaged bundle is refused."""
     wd = copy_workflow(tmp_path / "reader")
-    shutil.copytree(survey_run / "results" / "survey", wd / "results" / "toy-survey")
+    shutil.copytree(survey_run / "results" / "toy-survey", wd / "results" / "toy-survey")
     cfg = {k: SURVEY[k] for k in ("grid", "sweep", "analysis")}
     cfg |= {"results_dir": "results/reader", "empirical": {"results_from": "results/toy-survey"}}
     (wd / "reader.yaml").write_text(yaml.safe_dump(cfg))
@@ -67,7 +67,7 @@ def test_results_from_reads_the_bundle(survey_run: Path, tmp_path: Path) -> None
     assert jobs.get("empirical_from_bundle") == 1 and "empirical_shard" not in jobs and "figure_survey" in jobs
     snakemake(wd, "--cores", "2", "--configfile", "reader.yaml")
     got = pd.read_csv(wd / "results" / "reader" / "empirical" / "metrics.csv")
-    pd.testing.assert_frame_equal(got, pd.read_csv(survey_run / "results" / "survey" / "empirical" / "metrics.csv"))
+    pd.testing.assert_frame_equal(got, pd.read_csv(survey_run / "results" / "toy-survey" / "empirical" / "metrics.csv"))
     assert (wd / "results" / "reader" / "figures" / "survey.png").is_file()
     # a flipped byte in the bundle's metrics: the copy is refused, by file name
     m = wd / "results" / "toy-survey" / "empirical" / "metrics.csv"
@@ -93,3 +93,13 @@ def test_results_from_bad_values_are_named(tmp_path: Path) -> None:
         cfgmod.validate(cfgmod.deep_merge(base, {"empirical": {"results_from": "nowhere"}}))
     with pytest.raises(cfgmod.ConfigError, match=r"holds results on the 9-point grid; allowed: .* = 5"):
         cfgmod.validate(cfgmod.deep_merge(base, {"empirical": {"results_from": str(root / "results" / "paper")}}))
+
+
+def test_default_run_reads_the_committed_survey(tmp_path: Path) -> None:
+    """config.yaml draws its empirical panels from results/survey (no episode simulated);
+    config/simulate_empirical.yaml simulates its three designs instead."""
+    wd = copy_workflow(tmp_path / "clone")
+    jobs = job_stats(snakemake(wd, "-n", "--cores", "2").stdout)
+    assert jobs.get("empirical_from_bundle") == 1 and "empirical_shard" not in jobs and "figure_survey" in jobs
+    jobs = job_stats(snakemake(wd, "-n", "--cores", "2", "--configfile", "config/simulate_empirical.yaml").stdout)
+    assert "empirical_from_bundle" not in jobs and jobs.get("empirical_shard") == 3, jobs

@@ -42,8 +42,6 @@ else:
         localrule: True
         conda:
             "../../envs/analysis.yaml"
-        params:
-            bundle=CFG["empirical"]["results_from"],
         script:
             "../scripts/empirical_from_bundle.py"
 

@@ -10,6 +10,6 @@ cfg = setup(snakemake)  # noqa: F821
 from morphlearn import bundle  # noqa: E402
 
 out = snakemake.output  # noqa: F821
-bundle.extract_model(snakemake.params.bundle, "empirical",  # noqa: F821
-                     {"metrics": out.metrics, "provenance": out.provenance, "merged": out.merged})  # fmt: skip
-print(f"empirical results from {snakemake.params.bundle} (checksums verified)")  # noqa: F821
+src = Path(snakemake.input[0]).parent  # noqa: F821  (the input is the bundle's bundle.json)
+bundle.extract_model(src, "empirical", {"metrics": out.metrics, "provenance": out.provenance, "merged": out.merged})
+print(f"empirical results from {src} (checksums verified)")
