@@ -1,14 +1,15 @@
 """Benchmark of the empirical (pybullet) model: episodes per core-second, current loop vs new.
 
-Default: the survey's cost per design, three ways in one run, on ``--pairs`` mirror pairs of the
+Default: the survey's cost per design, four ways in one run, on ``--pairs`` mirror pairs of the
 5-positions-per-axis grid at 11 x 11 weights (CPU seconds of this process, one core):
 
 - current: every episode to contact or the horizon (``early_stop: false``), both designs of
   each pair simulated;
 - early stop: the exact lever alone (config.yaml's default);
-- survey: early stop + adaptive weight grid (near misses within 1.5 contact distances), one
-  design of each pair simulated and the other derived (config/survey.yaml);
-- near 4: the same with the adaptive grid's default, which missed no success in validation.
+- survey: config/survey.yaml's levers (read from it): early stop + adaptive weight grid (near
+  misses within 1.5 contact distances), one design of each pair simulated and the other derived;
+- near 4: the same with the adaptive grid's default threshold, which missed no success in
+  validation.
 
 "Episodes" are the (env, w1, w2) cells of the designs covered, so a lever that skips episodes
 raises the rate; the ratios are the per-design core-second savings.
@@ -33,13 +34,16 @@ from __future__ import annotations
 import argparse
 import math
 import time
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
 import pybullet as pb
+import yaml
 
 from morphlearn.empirical import EmpiricalParams, EpisodeRunner, evaluate_design, load_params
 from morphlearn.empirical.options import SweepOptions
+from morphlearn.empirical.refine import DEFAULT_NEAR
 from morphlearn.empirical.robot import (
     LEFT_WHEEL,
     RIGHT_WHEEL,
@@ -50,7 +54,6 @@ from morphlearn.empirical.robot import (
 )
 from morphlearn.grid import DesignGrid, light_positions, weights
 
-SURVEY_NEAR = 1.5  # config/survey.yaml's empirical.adaptive_near
 Case = tuple[tuple[float, float], tuple[float, float], float, float, int]
 
 
@@ -131,27 +134,29 @@ def pair_designs(pairs: int) -> list[tuple[int, int]]:
     return [(int(x), int(g.mirror(x))) for x in [best, *others]]
 
 
-def levers(params: EmpiricalParams, pairs: int, m: int) -> None:
+def levers(params: EmpiricalParams, pairs: int, m: int, survey: dict) -> None:
+    """``survey``: config/survey.yaml's ``empirical`` section (its levers, read, not restated)."""
     g = DesignGrid(5)
     w = weights(m)
     cells = 4 * m * m
-    ways = {"current": SweepOptions(), "early stop": SweepOptions(early_stop=True),
-            "survey": SweepOptions(early_stop=True, adaptive_weights=True, near=SURVEY_NEAR),
-            "near 4": SweepOptions(early_stop=True, adaptive_weights=True, near=4.0)}  # fmt: skip
+    opt = SweepOptions.from_config(survey)
+    derive = bool(survey.get("mirror_derive"))
+    # name -> (options, one design of each pair simulated and the other derived?)
+    ways = {"current": (SweepOptions(), False), "early stop": (SweepOptions(early_stop=True), False),
+            "survey": (opt, derive), f"near {DEFAULT_NEAR:g}": (replace(opt, near=DEFAULT_NEAR), derive)}  # fmt: skip
     cpu = dict.fromkeys(ways, 0.0)
     found = dict.fromkeys(ways, 0)
     designs = pair_designs(pairs)
     print(f"{len(designs)} mirror pairs ({2 * len(designs)} designs) x {cells} episodes, {m} x {m} weights, "
           f"{params.steps} steps of dt {params.dt}, one core")  # fmt: skip
     for pair in designs:
-        for name, opt in ways.items():
-            derive = name in ("survey", "near 4")  # these derive the mirror image
-            for d in pair[:1] if derive else pair:
+        for name, (options, derived) in ways.items():
+            for d in pair[:1] if derived else pair:
                 c = g.coords(d)
                 t = time.process_time()
-                r = evaluate_design((c[0], c[1]), (c[2], c[3]), w, params, options=opt)
+                r = evaluate_design((c[0], c[1]), (c[2], c[3]), w, params, options=options)
                 cpu[name] += time.process_time() - t
-                found[name] += int(np.isfinite(r.first_time).sum()) * (2 if derive else 1)
+                found[name] += int(np.isfinite(r.first_time).sum()) * (2 if derived else 1)
         print(f"  pair {pair}: " + ", ".join(f"{k} {v:.0f} CPU-s" for k, v in cpu.items()), flush=True)
     n = 2 * len(designs) * cells
     for name in ways:
@@ -173,7 +178,8 @@ def main() -> None:
     params = load_params(a.params) if Path(a.params).exists() else EmpiricalParams()
     if not a.batched:
         print(f"params: {a.params}")
-        levers(params, a.pairs, a.weights)
+        survey = yaml.safe_load((root / "config" / "survey.yaml").read_text())["empirical"]
+        levers(params, a.pairs, a.weights, survey)
         return
     cs = cases(a.episodes)
     print(f"params: {a.params if Path(a.params).exists() else 'authors defaults'}")
