@@ -19,7 +19,7 @@ include: "workflow/rules/common.smk"
 
 
 # scenarios: named variants of this config instead of the main workflow (docs/scenarios.md).
-if CFG["scenarios"] is not None:
+if S.scenarios is not None:
 
     include: "workflow/rules/scenarios.smk"
 
@@ -29,20 +29,20 @@ if CFG["scenarios"] is not None:
 # render_only: no rule that simulates, merges or computes metrics exists.
 elif not RENDER_ONLY:
 
-    include: "workflow/rules/theory.smk"
+    include: "workflow/rules/simulate.smk"
     include: "workflow/rules/empirical.smk"
     include: "workflow/rules/analysis.smk"
 
-    if CFG["learners"]["enabled"]:
+    if S.learners.enabled:
 
         include: "workflow/rules/learners.smk"
 
-    if CFG["bundle_dir"]:
+    if S.bundle_dir:
 
         include: "workflow/rules/bundle.smk"
 
 
-if CFG["scenarios"] is None:
+if S.scenarios is None:
 
     include: "workflow/rules/figures.smk"
 

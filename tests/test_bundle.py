@@ -12,7 +12,7 @@ import pandas as pd
 import pytest
 from conftest import copy_workflow, job_stats, snakemake
 
-from morphlearn import bundle, cli, metrics, store
+from morphlearn import bundle, bundle_check, cli, metrics, resimulate, store
 from morphlearn import grid as gridmod
 
 
@@ -25,7 +25,7 @@ def smoke_bundle(smoke_run: Path) -> Path:
 
 
 def test_bundle_holds_what_the_figures_draw(smoke_bundle: Path, smoke_run: Path) -> None:
-    assert bundle.check(smoke_bundle) == []
+    assert bundle_check.check(smoke_bundle) == []
     manifest = json.loads((smoke_bundle / bundle.MANIFEST).read_text())
     assert manifest["made_by"]["command"] == "snakemake --cores 2 --configfile config/smoke.yaml"
     table = pd.read_csv(smoke_bundle / "theory/metrics.csv")
@@ -59,11 +59,11 @@ def test_check_notices_damage(smoke_bundle: Path, tmp_path: Path) -> None:
     chunk.write_bytes(bytes(data))
     (copy / "summary.md").unlink()
     (copy / "theory/stray.csv").write_text("x\n")
-    problems = "\n".join(bundle.check(copy))
+    problems = "\n".join(bundle_check.check(copy))
     assert f"{chunk}: checksum differs from bundle.json (changed or damaged)" in problems
     assert "summary.md: listed in bundle.json but missing" in problems
     assert "stray.csv: not listed in bundle.json" in problems
-    assert len(bundle.check(copy)) == 3
+    assert len(bundle_check.check(copy)) == 3
     assert cli.main(["check-bundle", str(copy)]) == 1
     assert cli.main(["check-bundle", str(smoke_bundle)]) == 0
     assert cli.main(["check-bundle", str(tmp_path / "nowhere")]) == 2
@@ -72,24 +72,24 @@ def test_check_notices_damage(smoke_bundle: Path, tmp_path: Path) -> None:
 def test_resimulated_designs_match_bundle(smoke_bundle: Path, tmp_path: Path) -> None:
     """Re-simulate bundled designs from their recorded science: the same rows, the same arrays;
     an edited metrics row is noticed."""
-    assert bundle.resimulate(smoke_bundle, ["canonical", "best_M_L", "best_M_CF"]) == []
+    assert resimulate.resimulate(smoke_bundle, ["canonical", "best_M_L", "best_M_CF"]) == []
     copy = tmp_path / "bundle"
     shutil.copytree(smoke_bundle, copy)
     table = pd.read_csv(copy / "theory/metrics.csv")
     d = int(metrics.rank_designs(table, "M_L").design.iloc[0])
     table.loc[table.design == d, "n_45"] += 1
     table.to_csv(copy / "theory/metrics.csv", index=False, float_format="%.10g")
-    problems = bundle.resimulate(copy, [str(d)])
+    problems = resimulate.resimulate(copy, [str(d)])
     assert len(problems) == 1 and problems[0].startswith(f"design {d}: metrics row"), problems
     c = gridmod.DesignGrid(3).index_of(*gridmod.canonical_design())
     table.loc[table.design == c, "M_L"] += 1e-6  # counts intact, the metric edited
     table.to_csv(copy / "theory/metrics.csv", index=False, float_format="%.10g")
-    assert bundle.resimulate(copy, ["canonical"])[0].startswith(f"design {c}: metrics row M_L, M_CF")
+    assert resimulate.resimulate(copy, ["canonical"])[0].startswith(f"design {c}: metrics row M_L, M_CF")
     held = set(json.loads((copy / bundle.MANIFEST).read_text())["subsets"]["theory"]["designs"])
     absent = min(set(table.design) - held)
-    assert bundle.resimulate(copy, [str(absent)]) == [f"design {absent}: not held in {copy}/theory/merged.zarr"]
+    assert resimulate.resimulate(copy, [str(absent)]) == [f"design {absent}: not held in {copy}/theory/merged.zarr"]
     with pytest.raises(bundle.BundleError, match="allowed: canonical"):
-        bundle.resimulate(copy, ["best"])
+        resimulate.resimulate(copy, ["best"])
     assert cli.main(["check-bundle", str(smoke_bundle), "--resimulate", "canonical"]) == 0
     assert cli.main(["check-bundle", str(copy), "--resimulate", str(d)]) == 1
 
@@ -106,4 +106,4 @@ def test_render_from_bundle_alone(smoke_bundle: Path, tmp_path: Path) -> None:
     assert set(jobs) == {*(f"figure_fig{i}" for i in range(1, 8)), "reproduction", "all"}, jobs
     for i in range(1, 8):
         assert (out / f"figures/fig{i}.html").stat().st_size > 1000
-    assert bundle.check(out) == []  # every re-rendered figure, caption and table byte-identical
+    assert bundle_check.check(out) == []  # every re-rendered figure, caption and table byte-identical

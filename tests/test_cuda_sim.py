@@ -131,11 +131,13 @@ def test_backend_selection_without_gpu() -> None:
 
 
 def test_backend_comes_from_config_but_not_the_science_digest() -> None:
-    from morphlearn import config
+    from morphlearn.settings import GridSettings
+    from morphlearn.theory.plugin import Theory
 
     th = {"r": 4.0, "horizon": 500.0, "success_radius": 0.2, "integrator": "dp5", "rtol": 1e-8,
           "atol": 1e-8, "dt": 0.01, "max_steps": 100000, "backend": "auto"}  # fmt: skip
     assert TheoryParams.from_config(th).backend == "auto"
-    cfg = {"grid": {"positions_per_axis": 9, "weights": 121}, "theory": th,
-           "sweep": {"mirror_symmetry": True}}  # fmt: skip
-    assert "backend" not in json.dumps(config.theory_science(cfg))
+    cfg = {"grid": {"positions_per_axis": 9, "weights": 121}, "theory": {**th, "enabled": True},
+           "sweep": {"mirror_symmetry": True, "shards": 1, "threads": 1}}  # fmt: skip
+    parsed = Theory().parse(cfg, GridSettings(9, 121))
+    assert parsed.params.backend == "auto" and "backend" not in json.dumps(dict(parsed.science))

@@ -12,7 +12,7 @@ import pytest
 import yaml
 from conftest import ROOT, copy_workflow, job_stats, snakemake
 
-from morphlearn import config, design_cache, pipeline, store
+from morphlearn import config, design_cache, models, rules, settings, store
 
 SMOKE = config.load(ROOT / "config.yaml", [ROOT / "config/smoke.yaml"])
 # smoke, with two empirical designs (plus mirror images) so that both models can be re-sharded
@@ -104,41 +104,42 @@ def test_killed_shard_resumes_and_damaged_designs_are_recomputed(
     tmp_path: Path, capsys: pytest.CaptureFixture
 ) -> None:
     # 9 shards of the 45 smoke designs: 5 in shard 0 (seconds)
-    cfg = config.deep_merge(SMOKE, {"results_dir": str(tmp_path / "results"), "sweep": {"shards": 9}})
+    s = settings.parse(config.deep_merge(SMOKE, {"results_dir": str(tmp_path / "results"), "sweep": {"shards": 9}}))
+    theory = models.get("theory")
     out = tmp_path / "shard_0.nc"
-    pipeline.run_shard(cfg, "theory", 0, out)
+    rules.run_shard(s, "theory", 0, out)
     first = out.read_bytes()
-    designs = pipeline.shard_designs(cfg, "theory")[0]
+    designs = theory.shard_designs(s)[0]
     assert "reused 0, to compute 5" in capsys.readouterr().out
-    folder = design_cache.cache_dir(cfg["results_dir"], "theory", pipeline.science(cfg, "theory"))
+    folder = design_cache.cache_dir(s.results_dir, "theory", theory.science(s))
     assert sorted(folder.iterdir()) == sorted(design_cache.design_path(folder, d) for d in designs)
 
     out.unlink()  # as if the job was killed before it wrote its shard, with one design unfinished
     design_cache.design_path(folder, designs[1]).unlink()
     _flip_byte(design_cache.design_path(folder, designs[2]))
-    pipeline.run_shard(cfg, "theory", 0, out)
+    rules.run_shard(s, "theory", 0, out)
     log = capsys.readouterr().out
     assert "reused 3, to compute 2" in log and "data checksum mismatch (damaged)" in log, log
     assert out.read_bytes() == first
 
     # another science config never reuses these designs: it has its own folder
-    other = config.deep_merge(cfg, {"theory": {"horizon": 400.0}})
-    assert design_cache.cache_dir(cfg["results_dir"], "theory", pipeline.science(other, "theory")) != folder
-    assert np.array_equal(designs, pipeline.shard_designs(other, "theory")[0])
+    other = settings.parse(config.deep_merge(dict(s.source), {"theory": {"horizon": 400.0}}))
+    assert design_cache.cache_dir(s.results_dir, "theory", theory.science(other)) != folder
+    assert np.array_equal(designs, theory.shard_designs(other)[0])
 
 
 def test_theory_shard_saves_each_batch_as_it_finishes(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
     """A theory shard killed mid-way keeps the designs of its finished batches (not only of
     finished shards): the kernel reports each batch, and the cache saves it at once."""
-    cfg = config.deep_merge(SMOKE, {"results_dir": str(tmp_path / "results"), "sweep": {"shards": 9}})
-    designs = pipeline.shard_designs(cfg, "theory")[0]
-    folder = design_cache.cache_dir(cfg["results_dir"], "theory", pipeline.science(cfg, "theory"))
+    s = settings.parse(config.deep_merge(SMOKE, {"results_dir": str(tmp_path / "results"), "sweep": {"shards": 9}}))
+    designs = models.get("theory").shard_designs(s)[0]
+    folder = design_cache.cache_dir(s.results_dir, "theory", models.get("theory").science(s))
     import morphlearn.theory as theory
     from morphlearn.theory import cpu
 
     real, real_sweep = theory.evaluate, cpu.sweep
     # one design per batch; the run is "killed" while the third batch's design is being saved
-    monkeypatch.setattr(pipeline, "evaluate", lambda *a, **k: real(*a, **k, batch_trajectories=1))
+    monkeypatch.setattr(theory, "evaluate", lambda *a, **k: real(*a, **k, batch_trajectories=1))
     batches: list[int] = []
     monkeypatch.setattr(cpu, "sweep", lambda d, *a, **k: batches.append(len(d)) or real_sweep(d, *a, **k))
     saved: list[int] = []
@@ -153,6 +154,6 @@ def test_theory_shard_saves_each_batch_as_it_finishes(tmp_path: Path, monkeypatc
 
     monkeypatch.setattr(design_cache, "save", save)
     with pytest.raises(KeyboardInterrupt):
-        pipeline.run_shard(cfg, "theory", 0, tmp_path / "shard_0.nc")
+        rules.run_shard(s, "theory", 0, tmp_path / "shard_0.nc")
     assert sorted(folder.iterdir()) == sorted(design_cache.design_path(folder, d) for d in designs[:2])
     assert not (tmp_path / "shard_0.nc").exists()

@@ -154,7 +154,7 @@ def test_optimise_is_deterministic_for_a_seed() -> None:
 
 def test_episode_progress_lines_are_throttled(capsys: pytest.CaptureFixture[str]) -> None:
     """Shard logs get an episode-level line at most every ``every_s`` seconds, and one at the end."""
-    from morphlearn.pipeline import EpisodeProgress
+    from morphlearn.progress import EpisodeProgress
 
     t = iter([0.0, 1.0, 29.0, 31.0, 32.0, 40.0])  # start, then one reading per episode
     log = EpisodeProgress("design 7 (1/2)", every_s=30.0, clock=lambda: next(t))
@@ -172,7 +172,7 @@ def test_mirror_derive_simulates_one_of_each_pair(tmp_path: Path) -> None:
     derives the other (env mirrored, w1 <-> w2); the science record says so; a config that would
     derive designs it does not list is refused by name."""
     from morphlearn import config as cfgmod
-    from morphlearn import pipeline, store
+    from morphlearn import models, rules, settings, store
     from morphlearn.grid import DesignGrid
 
     root = Path(__file__).resolve().parents[1]
@@ -183,19 +183,20 @@ def test_mirror_derive_simulates_one_of_each_pair(tmp_path: Path) -> None:
     g = DesignGrid(5)
     d = g.index_of((-0.5, -0.25), (0.5, 0.25))
     pair = sorted({d, int(g.mirror(d))})
-    assert pipeline.designs_to_evaluate(cfg, "empirical").tolist() == [pair[0]]
-    assert pipeline.science(cfg, "empirical")["mirror_derive"] is True
-    assert "mirror_derive" not in pipeline.science(cfgmod.deep_merge(cfg, {"empirical": {"mirror_derive": False}}),
-                                                   "empirical")  # old results keep their digest  # fmt: skip
-    pipeline.run_shard(cfg, "empirical", 0, tmp_path / "shard_0.nc")
-    pipeline.run_merge(cfg, "empirical", [str(tmp_path / "shard_0.nc")], tmp_path / "merged.zarr")
+    s, emp = settings.parse(cfg), models.get("empirical")
+    assert emp.designs(s).tolist() == [pair[0]]
+    assert emp.science(s)["mirror_derive"] is True
+    off = settings.parse(cfgmod.deep_merge(cfg, {"empirical": {"mirror_derive": False}}))
+    assert "mirror_derive" not in emp.science(off)  # old results keep their digest
+    rules.run_shard(s, "empirical", 0, tmp_path / "shard_0.nc")
+    rules.run_merge(s, "empirical", [str(tmp_path / "shard_0.nc")], tmp_path / "merged.zarr")
     ds = store.open_merged(tmp_path / "merged.zarr")
     assert ds["design"].values.tolist() == pair
     a, b = (store.read_design(ds, i) for i in range(2))
     for k, v in store.mirror_arrays(a).items():
         np.testing.assert_array_equal(v, b[k])
     with pytest.raises(cfgmod.ConfigError, match=r"empirical\.mirror_derive = true needs"):
-        cfgmod.validate(cfgmod.deep_merge(cfg, {"empirical": {"include_mirrors": False}}))
+        settings.parse(cfgmod.deep_merge(cfg, {"empirical": {"include_mirrors": False}}))
 
 
 def test_committed_pareto_set_holds_both_bodies() -> None:

@@ -15,14 +15,15 @@ import pytest
 import yaml
 from conftest import copy_workflow, job_stats, snakemake
 
-from morphlearn import config, pipeline
+from morphlearn import config
 from morphlearn.figures import output
+from morphlearn.figures.options import PAPER_FIGURES
 from morphlearn.figures.reproduction import QUANTITIES
 
 SIM_RULES = {"theory_shard", "empirical_shard", "merge", "metrics", "summary"}
 
 
-@pytest.mark.parametrize("fig", pipeline.FIGURES)
+@pytest.mark.parametrize("fig", PAPER_FIGURES)
 def test_figure_is_a_non_blank_image_of_the_expected_size(smoke_run: Path, fig: str) -> None:
     out = smoke_run / "results/figures"
     img = mpimg.imread(out / f"{fig}.png")
@@ -177,9 +178,9 @@ def test_reviewer_rerenders_from_stored_results_only(smoke_run: Path, tmp_path: 
     stats = job_stats(proc.stdout + proc.stderr)
     print(f"re-rendered {sum(v for k, v in stats.items() if k.startswith('figure_'))} figures in {wall:.0f} s")
     assert not SIM_RULES & set(stats)
-    assert {f"figure_{f}" for f in pipeline.FIGURES} <= set(stats) and "reproduction" in stats
+    assert {f"figure_{f}" for f in PAPER_FIGURES} <= set(stats) and "reproduction" in stats
     assert not (wd / "results/theory/shards").exists()
-    for fig in pipeline.FIGURES:  # same pictures as the full run's (deterministic rendering)
+    for fig in PAPER_FIGURES:  # same pictures as the full run's (deterministic rendering)
         assert (wd / f"results/figures/{fig}.png").read_bytes() == (
             smoke_run / f"results/figures/{fig}.png"
         ).read_bytes(), fig

@@ -12,8 +12,8 @@ import pandas as pd
 import pytest
 import yaml
 
-from morphlearn import config, grid, pipeline, store
-from morphlearn.figures import caption, data, output, registry
+from morphlearn import grid, settings, store
+from morphlearn.figures import caption, data, options, output, registry
 from morphlearn.figures.draw import distribution, matrix, panel, sketch
 from morphlearn.results import DesignResult
 
@@ -211,15 +211,15 @@ def test_every_registered_figure_has_a_notebook_taking_its_options(empirical: bo
     """The rule passes the output paths, the style and the registry's options: the notebook's
     parameters cell must name each (papermill would only warn)."""
     base = yaml.safe_load((ROOT / "config.yaml").read_text())
-    cfg = config.validate({**base, "empirical": {**base.get("empirical", {}), "enabled": empirical}})
+    s = settings.parse({**base, "empirical": {**base.get("empirical", {}), "enabled": empirical}})
     # every notebook is a registered figure, except the scenario report (its own rule, scenarios.smk)
     assert set(registry.FIGURES) == {p.stem for p in (ROOT / "notebooks").glob("*.ipynb")} - {"scenarios"}
     for fig in registry.FIGURES:
         names = _parameters(ROOT / registry.notebook_path(fig))
-        passed = {"results_dir", "png", "pdf", "caption", "style", *pipeline.figure_options(cfg, fig)}
+        passed = {"results_dir", "png", "pdf", "caption", "style", *options.figure_options(s, fig)}
         assert passed <= names, (fig, passed - names)
-    assert "empirical_thresholds" not in pipeline.figure_options(cfg, "fig6") or empirical
-    assert pipeline.figure_options(cfg, "fig2")["fig2_envs"] == cfg["figures"]["fig2_envs"]
+    assert "empirical_thresholds" not in options.figure_options(s, "fig6") or empirical
+    assert options.figure_options(s, "fig2")["fig2_envs"] == s.source["figures"]["fig2_envs"]
 
 
 def test_grid_helpers_used_by_the_notebooks_exist() -> None:

@@ -16,7 +16,7 @@ import yaml
 from conftest import ROOT
 from test_reliability import REL_CONFIG, SCIENCE, SHARD_DESIGNS, G, W, _results, _shards
 
-from morphlearn import cli, config, metrics, pipeline, store
+from morphlearn import cli, config, metrics, models, rules, settings, store
 from morphlearn.provenance import sha256_file
 from morphlearn.results import DesignResult
 
@@ -42,8 +42,7 @@ def _chunk(m: Path, var: str, pos: int) -> Path:
 def _metrics(m: Path, tmp_path: Path) -> tuple[Path, Exception | None]:
     csv = tmp_path / "metrics.csv"
     try:
-        pipeline.run_metrics({"analysis": {}, "theory": {"horizon": 500.0, "success_radius": 0.2}},
-                             "theory", m, csv)  # fmt: skip
+        rules.run_metrics("theory", metrics.Thresholds(500.0, 0.2, 500.0, 0.2), m, csv)
     except store.IntegrityError as e:
         return csv, e
     return csv, None
@@ -152,8 +151,8 @@ def test_merge_records_and_warns_about_mixed_commits_and_backends(tmp_path: Path
 
 
 def test_shard_provenance_names_backend_and_device() -> None:
-    cfg = config.validate(config.deep_merge(yaml.safe_load((ROOT / "config.yaml").read_text()), REL_CONFIG))
-    rec = pipeline.provenance.backend(cfg, "theory")
+    s = settings.parse(config.deep_merge(yaml.safe_load((ROOT / "config.yaml").read_text()), REL_CONFIG))
+    rec = models.get("theory").backend(s)
     assert rec["backend"] == "cpu" and rec["device"].startswith("cpu (")
 
 
@@ -198,12 +197,12 @@ def test_near_boundary_excuses_only_a_failing_side_that_came_close() -> None:
 def test_render_only_refuses_a_damaged_or_missing_input(merged: Path, tmp_path: Path) -> None:
     csv = merged.parent / "metrics.csv"
     with pytest.raises(store.IntegrityError, match=r"metrics\.csv: missing"):
-        pipeline.check_render_inputs([str(csv), str(merged)])
+        rules.check_render_inputs([str(csv), str(merged)])
     csv.write_text("x\n")
-    pipeline.check_render_inputs([str(csv), str(merged)])
+    rules.check_render_inputs([str(csv), str(merged)])
     _chunk(merged, "first_time", 2).unlink()
     with pytest.raises(store.IntegrityError, match=r"first_time of design \d+ \(position 2\): its chunk file is miss"):
-        pipeline.check_render_inputs([str(csv), str(merged)])
+        rules.check_render_inputs([str(csv), str(merged)])
 
 
 # --- the probe: bad inputs tried as a hostile user would; each refused with one line, exit 2 ----
@@ -266,7 +265,7 @@ def test_probe_bad_inputs_refused_cleanly(tmp_path: Path, capsys: pytest.Capture
                            .replace("{file}", str(a_file)))  # fmt: skip
         tried += 1
         with pytest.raises(config.ConfigError) as e:
-            config.validate(config.deep_merge(base, patch))
+            settings.parse(config.deep_merge(base, patch))
         ok = needle in str(e.value) and "\n" not in str(e.value)
         clean += ok
         assert ok, (patch, str(e.value))

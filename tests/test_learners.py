@@ -8,19 +8,20 @@ import math
 import numpy as np
 import pytest
 
-from morphlearn import config, metrics
+from morphlearn import config, metrics, settings
 from morphlearn.grid import DesignGrid, env_starts, weights
 from morphlearn.learners import experiment, protocols
 from morphlearn.learners.objective import joint_loss
+from morphlearn.settings import Settings
 from morphlearn.theory import TheoryParams, evaluate
 from morphlearn.theory import cpu as kernel
 
 P = TheoryParams()
 
 
-def _cfg(**learners) -> dict:
+def _cfg(**learners) -> Settings:
     base = config.load("config.yaml")
-    return config.validate({**base, "learners": {"enabled": True, **learners}})
+    return settings.parse({**base, "learners": {"enabled": True, **learners}})
 
 
 def test_points_kernel_equals_grid_kernel_on_grid_points() -> None:

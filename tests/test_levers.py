@@ -145,19 +145,23 @@ def test_adaptive_design_marks_inferred_cells(params: EmpiricalParams) -> None:
 
 def test_options_enter_the_science_record_only_when_on() -> None:
     from morphlearn import config as cfgmod
+    from morphlearn import models, settings
 
-    base = cfgmod.load(ROOT / "config.yaml")
-    off = cfgmod.deep_merge(base, {"empirical": {"early_stop": False, "adaptive_weights": False}})
-    sci_off = cfgmod.empirical_science(cfgmod.validate(off), {})
+    def science(cfg: dict) -> dict:
+        return models.get("empirical").science(settings.parse(cfg))
+
+    base = cfgmod.read(ROOT / "config.yaml")
+    off = cfgmod.deep_merge(base, {"empirical": {"early_stop": False, "adaptive_weights": False,
+                                                 "results_from": None}})  # fmt: skip
+    sci_off = science(off)
     assert "early_stop" not in sci_off and "adaptive_weights" not in sci_off
-    on = cfgmod.empirical_science(cfgmod.validate(cfgmod.deep_merge(off, {"empirical": {
-        "early_stop": True, "adaptive_weights": True}})), {})  # fmt: skip
+    on = science(cfgmod.deep_merge(off, {"empirical": {"early_stop": True, "adaptive_weights": True}}))
     assert on["early_stop"] == {"margin": 2.0, "check_every": 10}
     assert on["adaptive_weights"] == {"stride": 2, "near": 4.0}
-    survey = cfgmod.load(ROOT / "config.yaml", [ROOT / "config/survey.yaml"])
-    assert cfgmod.empirical_science(survey, {})["adaptive_weights"]["near"] == 1.5  # its bundle's record
-    paper = cfgmod.load(ROOT / "config.yaml", [ROOT / "config/paper.yaml"])
-    assert "early_stop" not in cfgmod.empirical_science(paper, {})  # the committed bundle's record
+    survey = cfgmod.read(ROOT / "config.yaml", [ROOT / "config/survey.yaml"])
+    assert science(survey)["adaptive_weights"]["near"] == 1.5  # its bundle's record
+    paper = cfgmod.read(ROOT / "config.yaml", [ROOT / "config/paper.yaml"])
+    assert "early_stop" not in science(paper)  # the committed bundle's record
 
 
 # --- theory against physics ------------------------------------------------------------------

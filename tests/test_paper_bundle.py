@@ -12,7 +12,7 @@ from pathlib import Path
 import pandas as pd
 from conftest import ROOT, copy_workflow, job_stats, snakemake
 
-from morphlearn import bundle
+from morphlearn import bundle, bundle_check, resimulate
 
 BUNDLE = ROOT / "results" / "paper"
 #: What the bundle may weigh in git (issue 11).
@@ -42,7 +42,7 @@ def readme_render_command() -> list[str]:
 
 def test_committed_bundle_is_whole_and_small() -> None:
     b = _committed()
-    assert bundle.check(b) == []
+    assert bundle_check.check(b) == []
     size = sum(p.stat().st_size for p in b.rglob("*") if p.is_file() and p.relative_to(b).parts[0]
                not in ("logs", "benchmarks", ".snakemake"))  # fmt: skip
     assert size <= BUDGET_BYTES, f"{size / 2**20:.1f} MiB"
@@ -58,7 +58,7 @@ def test_committed_bundle_is_whole_and_small() -> None:
 def test_committed_designs_resimulate_exactly() -> None:
     """The canonical design and the best designs by M_L and by M_CF, at paper resolution (121 x
     121 weights, 4 environments): the committed rows and arrays, bit for bit."""
-    assert bundle.resimulate(_committed(), ["canonical", "best_M_L", "best_M_CF"]) == []
+    assert resimulate.resimulate(_committed(), ["canonical", "best_M_L", "best_M_CF"]) == []
 
 
 def test_readme_command_renders_committed_bundle(tmp_path: Path) -> None:
@@ -73,4 +73,4 @@ def test_readme_command_renders_committed_bundle(tmp_path: Path) -> None:
         assert (out / f"figures/fig{i}.html").stat().st_size > 1000
     assert not (out / "theory" / "shards").exists() and not (out / "theory" / "designs").exists()
     # every figure, caption and table re-rendered to the committed bytes
-    assert bundle.check(out) == []
+    assert bundle_check.check(out) == []

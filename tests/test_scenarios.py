@@ -13,9 +13,8 @@ import pytest
 import yaml
 from conftest import ROOT, copy_workflow, job_stats, snakemake
 
-from morphlearn import config as cfgmod
 from morphlearn import grid as gridmod
-from morphlearn import metrics
+from morphlearn import metrics, settings
 from morphlearn import scenarios as sc
 from morphlearn.theory import TheoryParams, evaluate
 
@@ -52,7 +51,7 @@ def test_select_adds_base_keeps_file_order_and_refuses_unknown_names() -> None:
 
 
 def test_override_validated_with_the_config_schema() -> None:
-    base = cfgmod.load(ROOT / "config.yaml")
+    base = settings.load(ROOT / "config.yaml")
     with pytest.raises(sc.ScenarioError, match=r"scenario 'neg': theory.r = -1.0 is invalid"):
         sc.expand(base, {"base": {}, "neg": {"theory": {"r": -1.0}}}, ["base", "neg"])
     with pytest.raises(sc.ScenarioError, match=r"scenario 'typo': unknown key \['horizn'\] under 'theory'"):
@@ -70,12 +69,12 @@ def test_answers_only_what_stored_arrays_determine() -> None:
 
 
 def test_default_set_needs_five_simulations_for_nine_scenarios() -> None:
-    base = cfgmod.load(ROOT / "config.yaml")
+    base = settings.load(ROOT / "config.yaml")
     f = sc.read_file(ROOT / "config" / "scenarios.yaml")
     scen = sc.expand(base, f, sc.select(f, "all"))
-    p = sc.plan(scen, base["results_dir"])
-    simulated = {(round(c["theory"]["r"], 9), c["theory"]["horizon"], c["theory"]["success_radius"])
-                 for c in p.sims.values()}  # fmt: skip
+    p = sc.plan(scen, base.results_dir)
+    params = [sim.models["theory"].params for sim in p.sims.values()]
+    simulated = {(round(t.r, 9), t.horizon, t.success_radius) for t in params}
     r2 = round(4 * math.sqrt(2), 9)
     # r = 4: (500, 0.2) answers base, T250, radius0.4; (1000, 0.1) answers T1000 (radius) and
     # radius0.1 (horizon); both cost 1500 time units, the tie goes to simulating the base itself.
@@ -87,16 +86,8 @@ def test_default_set_needs_five_simulations_for_nine_scenarios() -> None:
     assert how["radius0.4"] == how["T1000"] == sc.HOW_RADIUS
     assert p.answers["r4sqrt2"].sim == p.answers["r4sqrt2_T1000"].sim
     # every simulation keeps its designs in the main run's design cache (shared science, shared designs)
-    assert {c["results_dir"] for c in p.sims.values()} == {base["results_dir"]}
-    mc = p.metrics_config("T1000")
-    assert (mc["analysis"]["horizon"], mc["analysis"]["success_radius"]) == (None, 0.2)
-    assert pipeline_thresholds(mc) == metrics.Thresholds(1000.0, 0.2, 1000.0, 0.1)
-
-
-def pipeline_thresholds(cfg: dict) -> metrics.Thresholds:
-    from morphlearn import pipeline
-
-    return pipeline.thresholds(cfg, "theory")
+    assert {sim.results_dir for sim in p.sims.values()} == {base.results_dir}
+    assert p.thresholds("T1000") == metrics.Thresholds(1000.0, 0.2, 1000.0, 0.1)
 
 
 def test_derived_success_equals_direct_simulation() -> None:

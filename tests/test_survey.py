@@ -12,7 +12,7 @@ import pytest
 import yaml
 from conftest import copy_workflow, job_stats, snakemake
 
-from morphlearn import bundle
+from morphlearn import bundle_check, settings
 
 # 81 designs (45 simulated with mirror derivation), 2 x 2 weights, a near light and a short
 # horizon so that some controllers succeed in seconds of CPU.
@@ -50,7 +50,7 @@ def test_survey_figure_table_and_bundle(survey_run: Path) -> None:
     emp = pd.read_csv(r / "empirical" / "metrics.csv")
     assert len(emp) == 81 and emp.flagged.sum() == 0  # inferred cells are not "flagged"
     out = survey_run / "results" / "toy-survey"
-    assert bundle.check(out) == []
+    assert bundle_check.check(out) == []
     assert (out / "figures" / "survey.png").is_file()
 
 
@@ -90,9 +90,9 @@ def test_results_from_bad_values_are_named(tmp_path: Path) -> None:
     base = cfgmod.load(root / "config.yaml")
     missing = r"empirical\.results_from = 'nowhere': nowhere/bundle\.json is missing"
     with pytest.raises(cfgmod.ConfigError, match=missing):
-        cfgmod.validate(cfgmod.deep_merge(base, {"empirical": {"results_from": "nowhere"}}))
+        settings.parse(cfgmod.deep_merge(base, {"empirical": {"results_from": "nowhere"}}))
     with pytest.raises(cfgmod.ConfigError, match=r"holds results on the 9-point grid; allowed: .* = 5"):
-        cfgmod.validate(cfgmod.deep_merge(base, {"empirical": {"results_from": str(root / "results" / "paper")}}))
+        settings.parse(cfgmod.deep_merge(base, {"empirical": {"results_from": str(root / "results" / "paper")}}))
 
 
 def test_default_run_reads_the_committed_survey(tmp_path: Path) -> None:

@@ -12,7 +12,7 @@ ROOT = Path(__file__).resolve().parents[1]
 CORE = ["numpy", "scipy", "numba", "xarray", "zarr", "pandas", "pyyaml", "jsonschema", "tqdm"]
 # What each environment's rules import (tests/test_envs.py runs the rules in a virtual environment
 # built from exactly these packages). CORE: the package's import-time needs (config, grid, store,
-# pipeline, theory); pybullet and pymoo load only inside the empirical rules (lazy imports).
+# rules, theory); pybullet and pymoo load only inside the empirical rules (lazy imports).
 ENVS = {
     "theory": [*CORE, "numba-cuda"],  # numba-cuda: the GPU backend (theory.backend)
     "analysis": CORE,  # merge, metrics, summary

@@ -85,22 +85,25 @@ def made_by(configs: list[str], results_dir: str) -> dict[str, Any]:
 
 
 def _models(run_dir: Path) -> list[str]:
-    return [m for m in ("theory", "empirical") if (run_dir / m / "metrics.csv").is_file()]
+    from morphlearn.models import MODELS
+
+    return [m for m in MODELS if (run_dir / m / "metrics.csv").is_file()]
 
 
-def _files(out_dir: Path) -> Iterable[Path]:
+def bundle_files(out_dir: Path) -> Iterable[Path]:
     for p in sorted(out_dir.rglob("*")):
         if p.is_file() and p.name != MANIFEST and ".snakemake_timestamp" not in p.name:
             yield p
 
 
-def build(run_dir: str | Path, out_dir: str | Path, *, positions_per_axis: int, top: int,
-          made_by: dict[str, Any]) -> dict[str, Any]:  # fmt: skip
+def build(run_dir: str | Path, out_dir: str | Path, *, top: int, made_by: dict[str, Any]) -> dict[str, Any]:
     """Write the bundle of ``run_dir`` to ``out_dir`` (replaced as a whole, atomically)."""
     run_dir, out_dir = Path(run_dir), Path(out_dir)
+    from morphlearn.models import REFERENCE
+
     models = _models(run_dir)
-    if "theory" not in models:
-        raise BundleError(f"{run_dir}: no theory/metrics.csv; run the workflow first")
+    if REFERENCE not in models:
+        raise BundleError(f"{run_dir}: no {REFERENCE}/metrics.csv; run the workflow first")
     subsets: dict[str, Any] = {}
     with store.atomic_path(out_dir) as tmp:
         tmp.mkdir(parents=True)
@@ -112,9 +115,9 @@ def build(run_dir: str | Path, out_dir: str | Path, *, positions_per_axis: int, 
             for name in MODEL_FILES:
                 shutil.copy2(run_dir / model / name, tmp / model / name)
             table = pd.read_csv(run_dir / model / "metrics.csv")
-            n = positions_per_axis if model == "theory" else positions_of(run_dir / model)
-            # every design of the grid (theory, or the empirical survey): only the drawn ones' arrays
-            every = model == "theory" or len(table) == n**4
+            n = positions_of(run_dir / model)
+            # every design of the grid (theory, or a physics survey): only the drawn ones' arrays
+            every = len(table) == n**4
             designs = drawn_designs(table, n, top) if every else np.sort(table.design)
             src = run_dir / model / "merged.zarr"
             store.write_subset(src, designs, tmp / model / "merged.zarr")
@@ -135,72 +138,13 @@ def build(run_dir: str | Path, out_dir: str | Path, *, positions_per_axis: int, 
         manifest = {
             "made_by": made_by,
             "subsets": subsets,
-            "files": {str(p.relative_to(tmp)): provenance.sha256_file(p) for p in _files(tmp)},
+            "files": {str(p.relative_to(tmp)): provenance.sha256_file(p) for p in bundle_files(tmp)},
         }
         (tmp / "README.md").write_text(readme(manifest, run_dir, cost))
         manifest["files"]["README.md"] = provenance.sha256_file(tmp / "README.md")
         manifest["files"] = dict(sorted(manifest["files"].items()))
         (tmp / MANIFEST).write_text(json.dumps(manifest, indent=1, sort_keys=True) + "\n")
     return manifest
-
-
-def resimulate(out_dir: str | Path, which: Iterable[str] = ("canonical", "best_M_L")) -> list[str]:
-    """Re-simulate theory designs of a bundle from its recorded science and compare with it.
-
-    ``which``: ``canonical``, ``best_M_L``, ``best_M_CF`` or a design index. Each design's
-    metrics row (counts per environment, generalists, flagged) and its stored outcome arrays must
-    come out exactly; the problems found are returned (empty: every design agrees). The
-    thresholds are the ones the bundle's metrics were computed with (its provenance record).
-    """
-    from morphlearn.theory import TheoryParams, evaluate
-
-    out_dir = Path(out_dir)
-    merged = store.open_merged(out_dir / "theory" / "merged.zarr")
-    sci = store.science_of(merged)
-    table = pd.read_csv(out_dir / "theory" / "metrics.csv")
-    prov = json.loads((out_dir / "theory" / "metrics.provenance.json").read_text())
-    th = metrics.Thresholds(**prov["config"]["thresholds"])
-    g = gridmod.DesignGrid(sci["grid"]["positions_per_axis"])
-    params = TheoryParams.from_config(sci["theory"])
-    wanted = [_design_of(w, table, g) for w in which]
-    held = set(int(d) for d in merged["design"].values)
-    problems = [f"design {d}: not held in {out_dir}/theory/merged.zarr" for d in wanted if d not in held]
-    todo = [d for d in wanted if d in held]
-    if not todo:
-        return problems
-    results = evaluate(g.coords(np.array(todo)), gridmod.weights(sci["grid"]["weights"]), params)
-    for d, res in zip(todo, results, strict=True):
-        dm = metrics.design_metrics(metrics.success(res.first_time, res.min_dist, th), res.status)
-        row = table[table.design == d].iloc[0]
-        stored = [*(int(row[f"n_{a}"]) for a in gridmod.ENV_ANGLES_DEG), int(row.generalists),
-                  int(row.at_least_one), int(row.flagged)]  # fmt: skip
-        fresh = [*dm.per_env, dm.generalists, dm.at_least_one, dm.flagged]
-        if stored != fresh:
-            problems.append(f"design {d}: metrics row {stored} (per env, generalists, at least one, "
-                            f"flagged) but re-simulated {fresh}")  # fmt: skip
-        elif [row.M_L, row.M_CF] != [float(metrics.CSV_FLOAT_FORMAT % x) for x in (dm.M_L, dm.M_CF)]:
-            problems.append(f"design {d}: metrics row M_L, M_CF = {row.M_L}, {row.M_CF} but re-simulated "
-                            f"{dm.M_L}, {dm.M_CF}")  # fmt: skip
-        one = store.read_design(merged, list(merged["design"].values).index(d))
-        for v in store.VARS:
-            a, b = one[v], getattr(res, v)
-            differ = a != b
-            if a.dtype.kind == "f":  # NaN (never succeeded) equals NaN here
-                differ &= ~(np.isnan(a) & np.isnan(b))
-            if differ.any():
-                problems.append(f"design {d}: stored {v} differs from the re-simulation in "
-                                f"{int(differ.sum())} cells")  # fmt: skip
-    return problems
-
-
-def _design_of(which: str, table: pd.DataFrame, g: gridmod.DesignGrid) -> int:
-    if which == "canonical":
-        return g.index_of(*gridmod.canonical_design())
-    if which in ("best_M_L", "best_M_CF"):
-        return int(metrics.rank_designs(table, which.removeprefix("best_")).design.iloc[0])
-    if which.isdigit():
-        return int(which)
-    raise BundleError(f"re-simulate {which!r}: allowed: canonical, best_M_L, best_M_CF or a design index")
 
 
 def run_cost(run_dir: str | Path) -> pd.DataFrame:
@@ -236,56 +180,12 @@ def _simulated_by(merged: Path) -> dict[str, Any]:
     return prov.get("shards", {})
 
 
-def extract_model(bundle_dir: str | Path, model: str, out: dict[str, str | Path]) -> None:
-    """Copy one model's results out of a bundle (``out``: metrics, provenance, merged paths),
-    after checking the whole bundle against its checksums; nothing is written if it fails."""
-    problems = check(bundle_dir)
-    if problems:
-        raise BundleError(f"{bundle_dir}: {len(problems)} problem(s), first: {problems[0]}")
-    src = Path(bundle_dir) / model
-    for name, key in (("metrics.csv", "metrics"), ("metrics.provenance.json", "provenance")):
-        dst = Path(out[key])
-        dst.parent.mkdir(parents=True, exist_ok=True)
-        with store.atomic_path(dst) as tmp:
-            shutil.copy2(src / name, tmp)
-    with store.atomic_path(Path(out["merged"])) as tmp:
-        shutil.copytree(src / "merged.zarr", tmp)
-
-
 def positions_of(model_dir: str | Path) -> int:
     """Positions per axis of a model's run, from its merged dataset's science record."""
+    from morphlearn import models
+
     sci = store.science_of(store.open_merged(Path(model_dir) / "merged.zarr"))
-    return int(sci.get("grid", {}).get("positions_per_axis", sci.get("positions_per_axis")))
-
-
-def check(out_dir: str | Path) -> list[str]:
-    """Problems of a bundle (empty: every file listed, present and unchanged, nothing extra)."""
-    out_dir = Path(out_dir)
-    mpath = out_dir / MANIFEST
-    if not mpath.is_file():
-        return [f"{mpath}: missing"]
-    try:
-        listed = json.loads(mpath.read_text())["files"]
-    except (ValueError, KeyError) as e:
-        return [f"{mpath}: unreadable ({e})"]
-    problems = []
-    for rel, digest in listed.items():
-        p = out_dir / rel
-        if not p.is_file():
-            problems.append(f"{p}: listed in {MANIFEST} but missing")
-        elif provenance.sha256_file(p) != digest:
-            problems.append(f"{p}: checksum differs from {MANIFEST} (changed or damaged)")
-    for p in _files(out_dir):
-        rel = str(p.relative_to(out_dir))
-        rendered = rel.startswith(_RENDERED) or (rel.startswith("figures/") and rel.endswith(".html"))
-        if rel not in listed and not rendered:
-            problems.append(f"{p}: not listed in {MANIFEST}")
-    return problems
-
-
-#: What a re-render writes beside the bundle's files (logs, benchmarks, and figures/*.html: the
-#: executed notebooks).
-_RENDERED = ("logs/", "benchmarks/", ".snakemake")
+    return models.get(sci["model"]).positions_of(sci)
 
 
 def readme(manifest: dict[str, Any], run_dir: Path, cost: pd.DataFrame) -> str:

@@ -5,7 +5,6 @@ from __future__ import annotations
 import argparse
 import ctypes
 import json
-import math
 import os
 import re
 import sys
@@ -19,7 +18,7 @@ from morphlearn.metrics import design_metrics
 
 
 @contextmanager
-def _c_stdout_to_stderr() -> Iterator[None]:
+def c_stdout_to_stderr() -> Iterator[None]:
     """Send what C libraries print to stdout (pybullet's banner) to stderr, so ``--json`` output
     stays one JSON object."""
     sys.stdout.flush()
@@ -31,10 +30,6 @@ def _c_stdout_to_stderr() -> Iterator[None]:
         ctypes.CDLL(None).fflush(None)  # C stdio buffers, before fd 1 is restored
         os.dup2(saved, 1)
         os.close(saved)
-
-
-#: Most fixed RK4 steps per trajectory the CLI takes (10^7: tens of seconds per trajectory).
-MAX_RK4_STEPS = 10_000_000
 
 
 class UsageError(ValueError):
@@ -55,77 +50,43 @@ def _positive(name: str, v: float | None) -> None:
 
 #: Weights per synapse at most (as grid.weights in the config schema).
 MAX_WEIGHTS = 1001
-THEORY_ONLY = ("r", "horizon", "dt")
-DEFAULT_MORPHOLOGY = "config/empirical_morphology.yaml"
-
-
-def _load_morphology(path: str) -> object:
-    from pathlib import Path
-
-    if not Path(path).is_file():
-        raise UsageError(f"--morphology {path}: no such file (a YAML of body parameters)")
-    with _c_stdout_to_stderr():
-        from morphlearn.empirical import load_params
-    try:
-        return load_params(path)
-    except ValueError as e:
-        raise UsageError(f"--morphology {path}: {e}") from None
+#: Options that must be finite numbers > 0 where given.
+POSITIVE = ("r", "horizon", "dt")
 
 
 def cmd_design(a: argparse.Namespace) -> int:
+    from morphlearn import models
+
     l1 = _position("--l1", a.l1)
     l2 = _position("--l2", a.l2)
     if not 2 <= a.weights <= MAX_WEIGHTS:
         gib = 4 * a.weights**2 * 9 / 2**30  # first_time, min_dist (float32), status (int8) per cell
         raise UsageError(f"--weights = {a.weights} must be in 2..{MAX_WEIGHTS} (one design's 4 x {a.weights}"
                          f" x {a.weights} results would need {gib:.3g} GiB of memory)")  # fmt: skip
-    for name in THEORY_ONLY:
+    for name in POSITIVE:
         _positive(f"--{name}", getattr(a, name))
-    if a.model == "empirical":  # refused rather than silently ignored
-        given = [f"--{n}" for n in THEORY_ONLY if getattr(a, n) is not None]
-        if given:
-            what = "theory options" if len(given) > 1 else "a theory option"
-            raise UsageError(f"{', '.join(given)}: {what}; the empirical model takes its body and episode "
-                             "from --morphology")  # fmt: skip
-    elif a.morphology is not None:
-        raise UsageError("--morphology: an empirical option; the theory model has no body parameters")
-    w = gridmod.weights(a.weights)
-    if a.model == "theory":
-        from morphlearn.theory import TheoryParams, evaluate
-
-        horizon = a.horizon if a.horizon is not None else 500.0
-        # RK4 takes horizon / dt steps: the step cap (meant for the adaptive integrator) follows.
-        steps = TheoryParams.max_steps if a.dt is None else max(TheoryParams.max_steps, math.ceil(horizon / a.dt))
-        if steps > MAX_RK4_STEPS:
-            raise UsageError(f"--dt {a.dt} needs {steps} RK4 steps per trajectory over the horizon {horizon}; "
-                             f"allowed: --dt >= {horizon / MAX_RK4_STEPS:g}")  # fmt: skip
-        p = TheoryParams(
-            r=a.r if a.r is not None else 4.0,
-            horizon=horizon,
-            success_radius=0.2,
-            integrator="rk4" if a.dt is not None else "dp5",
-            dt=a.dt if a.dt is not None else 0.01,
-            max_steps=steps,
-        )
-        res = evaluate(np.array([[*l1, *l2]]), w, p, progress=not a.json)[0]
-    else:
-        params = _load_morphology(a.morphology or DEFAULT_MORPHOLOGY)
-        with _c_stdout_to_stderr():
-            from morphlearn.empirical import evaluate_design
-
-            res = evaluate_design(l1, l2, w, params)
+    model = models.get(a.model)
+    # another model's options are refused rather than silently ignored
+    others = {o: n for n, m in models.MODELS.items() for o in m.cli_options if o not in model.cli_options}
+    given = [o for o in others if getattr(a, o) is not None]
+    if given:
+        owners = sorted({others[o] for o in given})
+        takes = ", ".join(f"--{o}" for o in model.cli_options) or "no model options"
+        raise UsageError(f"{', '.join(f'--{o}' for o in given)}: option{'s' if len(given) > 1 else ''} of the "
+                         f"{' and '.join(owners)} model; the {a.model} model takes {takes}")  # fmt: skip
+    res = model.evaluate_one(l1, l2, gridmod.weights(a.weights), a)
     dm = design_metrics(~np.isnan(res.first_time), res.status)
-    out = {"per_env": dm.per_env, "generalists": dm.generalists,
-           "at_least_one": dm.at_least_one, "M_L": dm.M_L, "M_CF": dm.M_CF,
+    out = {"per_env": dm.per_env, "generalists": dm.generalists, "at_least_one": dm.at_least_one, **dm.values,
            "flagged": dm.flagged}  # fmt: skip
     if a.json:
         print(json.dumps(out))
     else:
         envs = ", ".join(f"{ang} deg: {c}" for ang, c in zip(gridmod.ENV_ANGLES_DEG, dm.per_env, strict=True))
+        vals = "; ".join(f"{m} = {v:.6f}" for m, v in dm.values.items())
         print(f"design l1={l1} l2={l2}, model {a.model}, {a.weights}x{a.weights} controllers")
         print(f"successes per environment: {envs}")
         print(f"generalists (O == 4): {dm.generalists}; at least one (O >= 1): {dm.at_least_one}")
-        print(f"M_L = {dm.M_L:.6f}; M_CF = {dm.M_CF:.6f}; flagged trajectories: {dm.flagged}")
+        print(f"{vals}; flagged trajectories: {dm.flagged}")
     return 0
 
 
@@ -140,11 +101,11 @@ def cmd_verify(a: argparse.Namespace) -> int:
 def cmd_check_bundle(a: argparse.Namespace) -> int:
     from pathlib import Path
 
-    from morphlearn import bundle
+    from morphlearn import bundle, bundle_check, resimulate
 
     if not Path(a.bundle).is_dir():
         raise UsageError(f"{a.bundle}: no such folder (a results bundle, e.g. results/paper)")
-    problems = bundle.check(a.bundle)
+    problems = bundle_check.check(a.bundle)
     for line in problems:
         print(line)
     if not problems:
@@ -152,7 +113,7 @@ def cmd_check_bundle(a: argparse.Namespace) -> int:
     if a.resimulate:
         print(f"re-simulating {', '.join(a.resimulate)} (theory model, the bundle's recorded science)",
               flush=True)  # fmt: skip
-        again = bundle.resimulate(a.bundle, a.resimulate)
+        again = resimulate.resimulate(a.bundle, a.resimulate)
         for line in again:
             print(line)
         if not again:
@@ -180,7 +141,7 @@ def cmd_compare(a: argparse.Namespace) -> int:
         raise UsageError(f"the two tables share {len(both)} designs; need at least 3")
     agree = compare.agreement(both, a.resamples)
     out = {"designs": len(both)}
-    for m, r in agree.items():
+    for m, r in agree.items():  # every registered metric
         out[m] = {"rho": r.rho, "low": r.low, "high": r.high}
         top_a = set(metrics.rank_designs(tables[0][tables[0].design.isin(both.design)], m).design[: a.top])
         top_b = set(metrics.rank_designs(tables[1][tables[1].design.isin(both.design)], m).design[: a.top])
@@ -205,11 +166,14 @@ class _Version(argparse.Action):
 
 
 def build_parser() -> argparse.ArgumentParser:
+    from morphlearn.empirical.plugin import DEFAULT_MORPHOLOGY
+    from morphlearn.models import MODELS, REFERENCE
+
     p = argparse.ArgumentParser(prog="morphlearn", description=__doc__)
     p.add_argument("--version", action=_Version, nargs=0, help="print version and git commit, and exit")
     sub = p.add_subparsers(dest="cmd", required=True)
     d = sub.add_parser("design", help="evaluate one design over the M x M weight grid")
-    d.add_argument("--model", choices=["theory", "empirical"], default="theory")
+    d.add_argument("--model", choices=list(MODELS), default=REFERENCE)
     d.add_argument("--l1", nargs=2, type=float, required=True, metavar=("X", "Y"))
     d.add_argument("--l2", nargs=2, type=float, required=True, metavar=("X", "Y"))
     d.add_argument("--weights", type=int, default=121, metavar="M", help="weights per synapse (121)")
@@ -219,7 +183,7 @@ def build_parser() -> argparse.ArgumentParser:
     d.add_argument(
         "--morphology",
         default=None,
-        help=f"empirical: body parameters YAML (default: {DEFAULT_MORPHOLOGY}, the committed morphology)",
+        help=f"physics models: body parameters YAML (default: {DEFAULT_MORPHOLOGY}, the committed morphology)",
     )
     d.add_argument("--json", action="store_true", help="print one JSON object")
     d.set_defaults(func=cmd_design)

@@ -15,26 +15,30 @@ import numpy as np
 import pandas as pd
 from scipy import stats
 
-from morphlearn import metrics
+from morphlearn import metrics, models
 
 COORDS = ["l1x", "l1y", "l2x", "l2y"]
+#: The default names of the two tables (their columns' suffixes): the first two registered models.
+PAIR: tuple[str, str] = tuple(models.MODELS)[:2]  # type: ignore[assignment]
 
 
-def joined(theory: pd.DataFrame, empirical: pd.DataFrame) -> pd.DataFrame:
-    """One row per design in both tables: coordinates, ``M_L_theory``, ``M_L_empirical``, ... and
-    each model's rank by M_L and by M_CF (1 = best; ties broken as :func:`metrics.rank_designs`)."""
-    cols = ["design", *COORDS, "generalists", "M_L", "M_CF"]
-    t, e = theory[cols], empirical[cols]
-    both = t.merge(e, on="design", suffixes=("_theory", "_empirical"))
+def joined(a: pd.DataFrame, b: pd.DataFrame, names: tuple[str, str] = PAIR) -> pd.DataFrame:
+    """One row per design in both tables: coordinates, ``<metric>_<name>`` of each table (e.g.
+    ``M_L_theory``, ``M_L_empirical``) and each table's rank by each metric (1 = best; ties broken
+    as :func:`metrics.rank_designs`)."""
+    ms = list(metrics.METRICS)
+    cols = ["design", *COORDS, "generalists", *ms]
+    x, y = names
+    both = a[cols].merge(b[cols], on="design", suffixes=(f"_{x}", f"_{y}"))
     for c in COORDS:
-        if not np.allclose(both[f"{c}_theory"], both[f"{c}_empirical"]):
+        if not np.allclose(both[f"{c}_{x}"], both[f"{c}_{y}"]):
             raise ValueError(f"design indices disagree on {c}: the two tables use different grids")
-    both = both.rename(columns={f"{c}_theory": c for c in COORDS}).drop(columns=[f"{c}_empirical" for c in COORDS])
-    for model in ("theory", "empirical"):
-        sub = both[["design", *COORDS, f"M_L_{model}", f"M_CF_{model}"]].rename(
-            columns={f"M_L_{model}": "M_L", f"M_CF_{model}": "M_CF"}
+    both = both.rename(columns={f"{c}_{x}": c for c in COORDS}).drop(columns=[f"{c}_{y}" for c in COORDS])
+    for model in names:
+        sub = both[["design", *COORDS, *(f"{m}_{model}" for m in ms)]].rename(
+            columns={f"{m}_{model}": m for m in ms}
         )
-        for by in ("M_L", "M_CF"):
+        for by in ms:
             order = metrics.rank_designs(sub, by).design.to_numpy()
             rank = pd.Series(np.arange(1, len(order) + 1), index=order)
             both[f"rank_{by}_{model}"] = both.design.map(rank).to_numpy()
@@ -75,9 +79,10 @@ def spearman_ci(x: np.ndarray, y: np.ndarray, metric: str, n_resamples: int = 20
     return RankAgreement(metric, len(x), rho, float(lo), float(hi), level)
 
 
-def agreement(both: pd.DataFrame, n_resamples: int = 2000) -> dict[str, RankAgreement]:
-    """Spearman theory vs empirical for M_L and M_CF over the designs of :func:`joined`."""
-    return {m: spearman_ci(both[f"{m}_theory"], both[f"{m}_empirical"], m, n_resamples) for m in ("M_L", "M_CF")}
+def agreement(both: pd.DataFrame, n_resamples: int = 2000, names: tuple[str, str] = PAIR) -> dict[str, RankAgreement]:
+    """Spearman of the two tables of :func:`joined` for each metric, over their designs."""
+    x, y = names
+    return {m: spearman_ci(both[f"{m}_{x}"], both[f"{m}_{y}"], m, n_resamples) for m in metrics.METRICS}
 
 
 def sensor_use(table: pd.DataFrame, top: int, by: str = "M_L") -> pd.DataFrame:

@@ -8,7 +8,8 @@ larger horizon needs a new simulation and is refused.
 
 from __future__ import annotations
 
-from dataclasses import asdict, dataclass
+from collections.abc import Callable
+from dataclasses import dataclass
 
 import numpy as np
 import pandas as pd
@@ -60,29 +61,63 @@ def overlap(succ: np.ndarray) -> np.ndarray:
 
 
 @dataclass(frozen=True)
+class Counts:
+    """What a design's metrics are computed from: its overlap matrix, counted."""
+
+    cells: int  # controllers (m * m)
+    generalists: int  # O == 4
+    at_least_one: int  # O >= 1
+
+
+@dataclass(frozen=True)
+class Metric:
+    """A per-design metric: its column in the metrics tables, how it is computed from the counts,
+    how it is printed, and which way is better."""
+
+    name: str
+    of: Callable[[Counts], float]
+    fmt: str = ".4f"
+    higher_is_better: bool = True
+    text: str = ""
+
+
+#: The metrics, in column order. Every table, summary, ranking, comparison and caption loops over
+#: this: adding a metric is one line here (its notebook figure, if any, is a figure's business).
+METRICS: dict[str, Metric] = {
+    "M_L": Metric("M_L", lambda c: c.generalists / c.cells, text="learnability: generalists / controllers"),
+    "M_CF": Metric("M_CF", lambda c: c.generalists / c.at_least_one if c.at_least_one else 0.0,
+                   text="forgetting resistance: generalists / controllers that succeed at least once"),
+}  # fmt: skip
+
+
+@dataclass(frozen=True)
 class DesignMetrics:
     per_env: list[int]
     generalists: int
     at_least_one: int
-    M_L: float
-    M_CF: float
+    values: dict[str, float]  # metric name -> value, for every metric of METRICS
     flagged: int
 
+    def __getattr__(self, name: str) -> float:  # dm.M_L, dm.M_CF, ...: the registered metrics
+        values = self.__dict__.get("values", {})
+        if name in values:
+            return values[name]
+        raise AttributeError(name)
+
     def as_dict(self) -> dict:
-        return asdict(self)
+        return {"per_env": self.per_env, "generalists": self.generalists, "at_least_one": self.at_least_one,
+                **self.values, "flagged": self.flagged}  # fmt: skip
 
 
 def design_metrics(succ: np.ndarray, status: np.ndarray | None = None) -> DesignMetrics:
     """Metrics of one design from its (4, m, m) success array."""
     o = overlap(succ)
-    g4 = int((o == 4).sum())
-    any1 = int((o >= 1).sum())
+    c = Counts(cells=o.size, generalists=int((o == 4).sum()), at_least_one=int((o >= 1).sum()))
     return DesignMetrics(
         per_env=[int(x) for x in succ.sum(axis=(-2, -1))],
-        generalists=g4,
-        at_least_one=any1,
-        M_L=g4 / o.size,
-        M_CF=g4 / any1 if any1 else 0.0,
+        generalists=c.generalists,
+        at_least_one=c.at_least_one,
+        values={name: m.of(c) for name, m in METRICS.items()},
         flagged=int(np.isin(status, STATUS_FLAGGED).sum()) if status is not None else 0,
     )
 
@@ -115,16 +150,17 @@ def metrics_table(ds: xr.Dataset, th: Thresholds, block: int = 64) -> pd.DataFra
                 **{c: float(coords[c][j]) for c in ("l1x", "l1y", "l2x", "l2y")},
             }
             row.update({f"n_{ang}": c for ang, c in zip(ENV_ANGLES_DEG, dm.per_env, strict=True)})
-            row.update(generalists=dm.generalists, at_least_one=dm.at_least_one, M_L=dm.M_L,
-                       M_CF=dm.M_CF, flagged=dm.flagged)  # fmt: skip
+            row.update(generalists=dm.generalists, at_least_one=dm.at_least_one, **dm.values, flagged=dm.flagged)
             rows.append(row)
     return pd.DataFrame(rows)
 
 
 def rank_designs(table: pd.DataFrame, by: str) -> pd.DataFrame:
-    """Sorted best first by ``by``; ties broken by the other metric, then by design index."""
-    other = "M_CF" if by == "M_L" else "M_L"
-    return table.sort_values([by, other, "design"], ascending=[False, False, True], kind="stable")
+    """Sorted best first by ``by``; ties broken by the other metrics (in METRICS order), then by
+    design index."""
+    keys = [by, *(m for m in METRICS if m != by)]
+    up = [not METRICS[k].higher_is_better for k in keys]
+    return table.sort_values([*keys, "design"], ascending=[*up, True], kind="stable")
 
 
 def find_row(table: pd.DataFrame, design: tuple[tuple[float, float], tuple[float, float]]) -> pd.Series | None:
@@ -136,4 +172,5 @@ def find_row(table: pd.DataFrame, design: tuple[tuple[float, float], tuple[float
 
 def rank_of(table: pd.DataFrame, row: pd.Series, by: str) -> int:
     """1 + the number of designs strictly better by ``by`` (ties share a rank)."""
-    return int((table[by] > row[by]).sum()) + 1
+    better = table[by] > row[by] if METRICS[by].higher_is_better else table[by] < row[by]
+    return int(better.sum()) + 1

@@ -59,27 +59,6 @@ def library_versions() -> dict[str, str]:
     return out
 
 
-def backend(cfg: dict[str, Any], model: str) -> dict[str, str]:
-    """The kernel backend (``cpu``/``cuda``; empirical: ``pybullet``) and device that made a
-    shard: CPU and CUDA may differ in boundary cases, so the merge records and compares them."""
-    if model != "theory":
-        return {"backend": "pybullet", "device": f"cpu ({platform.machine()})"}
-    from morphlearn.theory import resolve_backend
-
-    b = resolve_backend(cfg["theory"].get("backend", "cpu"))
-    if b == "cuda":
-        try:
-            from numba import cuda
-
-            name = cuda.get_current_device().name
-            device = name.decode() if isinstance(name, bytes) else str(name)
-        except Exception as e:  # the name is a record, not a requirement
-            device = f"cuda (name unavailable: {type(e).__name__})"
-    else:
-        device = f"cpu ({platform.machine()}, {os.cpu_count()} cores)"
-    return {"backend": b, "device": device}
-
-
 def record(config_subset: dict[str, Any], inputs: list[str | Path] = ()) -> dict[str, Any]:
     """A provenance record. Deliberately without timestamps or host names: the same inputs and
     code give the same bytes."""

@@ -37,7 +37,8 @@ import pandas as pd
 
 from morphlearn import config as cfgmod
 from morphlearn import grid as gridmod
-from morphlearn import metrics
+from morphlearn import metrics, models, settings
+from morphlearn.settings import Settings
 
 #: The reference scenario every comparison is made against; every scenario file must define it.
 BASE = "base"
@@ -63,15 +64,20 @@ class ScenarioError(cfgmod.ConfigError):
 class Scenario:
     name: str
     overrides: dict[str, Any]
-    cfg: dict[str, Any]  # the validated config of the scenario "as if simulated"
+    settings: Settings  # the scenario "as if simulated"
+
+    @property
+    def theory(self) -> Any:
+        """Its theory parameters (morphlearn.theory.TheoryParams)."""
+        return self.settings.models["theory"].params
 
     @property
     def horizon(self) -> float:
-        return float(self.cfg["theory"]["horizon"])
+        return float(self.theory.horizon)
 
     @property
     def radius(self) -> float:
-        return float(self.cfg["theory"]["success_radius"])
+        return float(self.theory.success_radius)
 
 
 @dataclass(frozen=True)
@@ -87,17 +93,26 @@ class Answer:
 
 @dataclass
 class Plan:
-    sims: dict[str, dict[str, Any]] = field(default_factory=dict)  # id -> simulation config
+    #: id -> the simulation's settings (its ``source``, the validated config, is what its rules
+    #: receive as a parameter and parse again at their edge)
+    sims: dict[str, Settings] = field(default_factory=dict)
     answers: dict[str, Answer] = field(default_factory=dict)  # scenario -> answer
 
-    def metrics_config(self, scenario: str) -> dict[str, Any]:
-        """The simulation's config with the scenario's thresholds as its analysis section."""
+    def thresholds(self, scenario: str) -> metrics.Thresholds:
+        """The scenario's thresholds on its simulation (the simulated value itself where equal, as
+        the simulation's own metrics would record it)."""
         a = self.answers[scenario]
-        cfg = copy.deepcopy(self.sims[a.sim])
-        th = cfg["theory"]
-        cfg["analysis"]["horizon"] = None if a.horizon == th["horizon"] else a.horizon
-        cfg["analysis"]["success_radius"] = None if a.radius == th["success_radius"] else a.radius
-        return cfgmod.validate(cfg)
+        p = self.sims[a.sim].models["theory"].params
+        return metrics.Thresholds(
+            horizon=p.horizon if a.horizon == p.horizon else a.horizon,
+            radius=p.success_radius if a.radius == p.success_radius else a.radius,
+            sim_horizon=p.horizon,
+            sim_radius=p.success_radius,
+        )
+
+    def config(self, sim: str) -> dict[str, Any]:
+        """A simulation's validated config, as a rule parameter."""
+        return copy.deepcopy(dict(self.sims[sim].source))
 
 
 # ---------------------------------------------------------------------------------------------
@@ -147,33 +162,32 @@ def select(available: Iterable[str], wanted: str | Sequence[str]) -> list[str]:
     return [n for n in avail if n in chosen]
 
 
-def expand(base_cfg: dict[str, Any], file_scenarios: dict[str, dict[str, Any]],
-           names: Sequence[str]) -> list[Scenario]:  # fmt: skip
-    """Each named scenario's validated config: base config + overrides, theory only, its own
-    results folder ``<results_dir>/scenarios/<name>``."""
-    root = scenarios_dir(base_cfg)
+def expand(base: Settings, file_scenarios: dict[str, dict[str, Any]], names: Sequence[str]) -> list[Scenario]:
+    """Each named scenario's settings: base config + overrides, theory only, its own results
+    folder ``<results_dir>/scenarios/<name>``."""
+    root = scenarios_dir(base)
     out = []
     for name in names:
         over = file_scenarios[name]
-        raw = cfgmod.deep_merge(base_cfg, over)
+        raw = cfgmod.deep_merge(dict(base.source), over)
         raw = cfgmod.deep_merge(raw, {
             "results_dir": f"{root}/{name}", "empirical": {"enabled": False},
             "figures": {"enabled": False}, "bundle_dir": None, "render_only": False,
             "scenarios": None,
         })  # fmt: skip
         try:
-            cfg = cfgmod.validate(raw)
+            sc = settings.parse(raw)
         except cfgmod.ConfigError as e:
             raise ScenarioError(f"scenario {name!r}: {e}") from None
-        if cfg["analysis"]["horizon"] is not None or cfg["analysis"]["success_radius"] is not None:
+        if sc.analysis.horizon is not None or sc.analysis.success_radius is not None:
             raise ScenarioError(f"scenario {name!r}: the base config sets analysis.horizon/success_radius; "
                                 "allowed: null in the base config of a scenario run")  # fmt: skip
-        out.append(Scenario(name, over, cfg))
+        out.append(Scenario(name, over, sc))
     return out
 
 
-def scenarios_dir(base_cfg: dict[str, Any]) -> str:
-    return f"{base_cfg['results_dir']}/scenarios"
+def scenarios_dir(base: Settings) -> str:
+    return f"{base.results_dir}/scenarios"
 
 
 # ---------------------------------------------------------------------------------------------
@@ -212,15 +226,15 @@ def _cover(needs: list[tuple[float, float]], base_need: tuple[float, float] | No
     raise AssertionError("unreachable: the needs themselves cover")
 
 
-def _group_key(cfg: dict[str, Any]) -> str:
-    sci = cfgmod.theory_science(cfg)
+def _group_key(s: Settings) -> str:
+    sci = models.get("theory").science(s)
     del sci["theory"]["horizon"], sci["theory"]["success_radius"]
     return cfgmod.digest(sci)
 
 
-def sim_id(cfg: dict[str, Any]) -> str:
+def sim_id(s: Settings) -> str:
     """A simulation's identity: its science digest's prefix (as the design cache's folder)."""
-    return cfgmod.digest(cfgmod.theory_science(cfg))[:16]
+    return cfgmod.digest(models.get("theory").science(s))[:16]
 
 
 def plan(scenarios: Sequence[Scenario], cache_results_dir: str) -> Plan:
@@ -230,7 +244,7 @@ def plan(scenarios: Sequence[Scenario], cache_results_dir: str) -> Plan:
     out = Plan()
     groups: dict[str, list[Scenario]] = {}
     for s in scenarios:
-        groups.setdefault(_group_key(s.cfg), []).append(s)
+        groups.setdefault(_group_key(s.settings), []).append(s)
     for members in groups.values():
         needs = [(s.horizon, s.radius) for s in members]
         base_need = next(((s.horizon, s.radius) for s in members if s.name == BASE), None)
@@ -240,14 +254,13 @@ def plan(scenarios: Sequence[Scenario], cache_results_dir: str) -> Plan:
             options = [(answers(c, (s.horizon, s.radius)), c) for c in chosen]
             rank = {HOW_DIRECT: 0, HOW_HORIZON: 1, HOW_RADIUS: 2}
             how, (ts, rs) = min(((h, c) for h, c in options if h), key=lambda x: (rank[x[0]], x[1]))
-            cfg = cfgmod.deep_merge(s.cfg, {
+            sim = settings.parse(cfgmod.deep_merge(dict(s.settings.source), {
                 "theory": {"horizon": ts, "success_radius": rs},
                 "analysis": {"horizon": None, "success_radius": None},
                 "results_dir": cache_results_dir,
-            })  # fmt: skip
-            cfg = cfgmod.validate(cfg)
-            sid = sim_id(cfg)
-            out.sims.setdefault(sid, cfg)
+            }))  # fmt: skip
+            sid = sim_id(sim)
+            out.sims.setdefault(sid, sim)
             out.answers[s.name] = Answer(s.name, sid, how, s.horizon, s.radius)
     return out
 
@@ -258,10 +271,10 @@ def plan_markdown(plan_: Plan, scenarios: Sequence[Scenario]) -> str:
              "|---|---|---|---|---|---|---|"]  # fmt: skip
     for s in scenarios:
         a = plan_.answers[s.name]
-        th = plan_.sims[a.sim]["theory"]
-        lines.append(f"| {s.name} | {s.cfg['theory']['r']:.6g} | {s.horizon:g} | {s.radius:g} | `{a.sim}` | "
-                     f"({th['r']:.6g}, {th['horizon']:g}, {th['success_radius']:g}) | {a.how} |")  # fmt: skip
-    own = len({sim_id(s.cfg) for s in scenarios})
+        th = plan_.sims[a.sim].models["theory"].params
+        lines.append(f"| {s.name} | {s.theory.r:.6g} | {s.horizon:g} | {s.radius:g} | `{a.sim}` | "
+                     f"({th.r:.6g}, {th.horizon:g}, {th.success_radius:g}) | {a.how} |")  # fmt: skip
+    own = len({sim_id(s.settings) for s in scenarios})
     lines += ["", f"{len(plan_.sims)} simulations for {len(scenarios)} scenarios "
               f"({own} if every scenario were simulated as itself)."]  # fmt: skip
     return "\n".join(lines) + "\n"
@@ -379,13 +392,13 @@ def threshold_scan(merged: str | Path, pairs: Sequence[tuple[float, float]] | No
 # ---------------------------------------------------------------------------------------------
 # What the workflow's scenario rules do (their scripts only unpack and call)
 
-def run_metrics(metrics_cfg: dict[str, Any], merged: str | Path, out_csv: str | Path,
-                record: dict[str, Any], out_json: str | Path) -> None:  # fmt: skip
-    """A scenario's metrics from its simulation at its thresholds, and its record (overrides,
-    simulation, how it is answered)."""
-    from morphlearn import pipeline, store
+def run_metrics(th: metrics.Thresholds, merged: str | Path, out_csv: str | Path, record: dict[str, Any],
+                out_json: str | Path) -> None:  # fmt: skip
+    """A scenario's metrics from its simulation at its thresholds (Plan.thresholds), and its record
+    (overrides, simulation, how it is answered)."""
+    from morphlearn import rules, store
 
-    pipeline.run_metrics(metrics_cfg, "theory", merged, out_csv)
+    rules.run_metrics("theory", th, merged, out_csv)
     with store.atomic_path(Path(out_json)) as tmp:
         tmp.write_text(json.dumps(record, indent=1, sort_keys=True) + "\n")
 

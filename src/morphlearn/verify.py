@@ -37,6 +37,8 @@ from typing import Any
 import numpy as np
 
 from morphlearn import grid as gridmod
+from morphlearn.models import REFERENCE
+from morphlearn.results import STATUS_OK
 
 #: Closest approach within this of the success radius counts as near the boundary.
 DIST_TOL = 2e-3
@@ -114,8 +116,8 @@ def near_boundary(c: Cell, radius: float, horizon: float) -> bool:
     failing_dist = c.stored_dist if c.ref_success else c.ref_dist
     success_time = c.ref_time if c.ref_success else c.stored_time
     return (
-        c.ref_status != 0
-        or c.stored_status != 0
+        c.ref_status != STATUS_OK
+        or c.stored_status != STATUS_OK
         or abs(failing_dist - radius) < DIST_TOL
         or horizon - success_time < HORIZON_TOL
     )
@@ -152,10 +154,10 @@ def read_parameters(ds: Any, path: str | Path) -> dict[str, Any]:
         raise VerifyError(f"--merged {path}: no 'science_json' attribute; not a merged morphlearn dataset")
     sci = json.loads(raw)
     model = sci.get("model", ds.attrs.get("model"))
-    if model != "theory":
-        raise VerifyError(f"--merged {path}: model {model!r}; allowed: 'theory' (the reference is the ODE)")
+    if model != REFERENCE:  # the scipy reference solves the ODE of the reference model
+        raise VerifyError(f"--merged {path}: model {model!r}; allowed: {REFERENCE!r} (the reference is the ODE)")
     th = sci["theory"]
-    return {"model": "theory", **{k: th[k] for k in ("r", "horizon", "success_radius", "integrator")},
+    return {"model": REFERENCE, **{k: th[k] for k in ("r", "horizon", "success_radius", "integrator")},
             **{k: th[k] for k in ("rtol", "atol", "dt") if k in th}}  # fmt: skip
 
 
@@ -238,8 +240,8 @@ def verify(
     diffs = []
     for c, (t, dist, st) in zip(cells, refs, strict=True):
         c.ref_time, c.ref_dist, c.ref_status = float(t), float(dist), int(st)
-        rep.reference_stopped += c.ref_status != 0
-        rep.stored_flagged += c.stored_status != 0
+        rep.reference_stopped += c.ref_status != STATUS_OK
+        rep.stored_flagged += c.stored_status != STATUS_OK
         if c.stored_success == c.ref_success:
             rep.success_agree += 1
             if c.stored_success:

@@ -25,7 +25,7 @@ rule merge:
     conda:
         "../../envs/analysis.yaml"
     params:
-        science=lambda w: cfgmod.digest(pipeline.science(CFG, w.model)),
+        science=lambda w: cfgmod.digest(SCIENCE[w.model]),
     script:
         "../scripts/merge.py"
 
@@ -49,7 +49,7 @@ rule metrics:
     conda:
         "../../envs/analysis.yaml"
     params:
-        thresholds=lambda w: pipeline.thresholds(CFG, w.model).__dict__,
+        thresholds=lambda w: models.get(w.model).thresholds(S).__dict__,
     script:
         "../scripts/metrics.py"
 
@@ -67,6 +67,6 @@ rule summary:
     conda:
         "../../envs/analysis.yaml"
     params:
-        top=CFG["analysis"]["top"],
+        top=S.analysis.top,
     script:
         "../scripts/summary.py"

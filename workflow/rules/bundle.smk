@@ -13,7 +13,7 @@ rule bundle:
         *(f"{R}/{m}/{n}" for m in MODELS for n in ("metrics.csv", "merged.zarr")),
         summary=f"{R}/summary.md",
     output:
-        directory(CFG["bundle_dir"]),
+        directory(S.bundle_dir),
     log:
         f"{R}/logs/bundle.log",
     benchmark:
@@ -22,8 +22,7 @@ rule bundle:
         "../../envs/figures.yaml"
     params:
         results=R,
-        top=CFG["analysis"]["top"],
-        positions=CFG["grid"]["positions_per_axis"],
+        top=S.analysis.top,
         configs=[os.path.relpath(f) for f in workflow.configfiles],
     script:
         "../scripts/bundle.py"

@@ -7,12 +7,14 @@ from pathlib import Path
 import yaml
 
 from morphlearn import config as cfgmod
-from morphlearn import pipeline, results_check
+from morphlearn import models, results_check, rules, settings
 from morphlearn.learners import experiment as learner_experiment
+from morphlearn.figures import options as figure_options
 from morphlearn.figures import registry as figure_registry
 
+# The config, parsed once into typed settings: everything below reads S, never the raw dict.
 try:
-    CFG = cfgmod.validate(config)
+    S = settings.parse(config)
 except cfgmod.ConfigError as err:
     print(f"morphlearn: config error: {err}", file=sys.stderr)
     sys.exit(2)
@@ -28,22 +30,22 @@ os.environ["PATH"] = (
     f"{Path(sys.executable).parent}{os.pathsep}{os.environ.get('PATH', '')}"
 )
 
-R = CFG["results_dir"]
-MODELS = pipeline.models(CFG)
-SIMULATED = pipeline.simulated_models(CFG)
-SHARDS = {m: pipeline.shard_designs(CFG, m) for m in SIMULATED}
-LEARNER_SHARDS = learner_experiment.shards(CFG) if CFG["learners"]["enabled"] else []
+R = S.results_dir
+MODELS = models.enabled(S)
+SIMULATED = models.simulated(S)
+# each simulated model's shards and science, once per start
+SHARDS = {m: models.get(m).shard_designs(S) for m in SIMULATED}
+SCIENCE = {m: models.get(m).science(S) for m in SIMULATED}
+LEARNER_SHARDS = learner_experiment.shards(S) if S.learners.enabled else []
 
 
 # Results this config did not make that Snakemake has no record of (copied in, or .snakemake
 # metadata cleaned) would count as done until the merge refuses them: stop now. Main process only:
 # cluster jobs re-parse this file and must not re-read the shards. Not for `--unlock`, which only
 # clears a lock (Snakemake gives the Snakefile no other way to tell that mode than its arguments).
-if not CFG["render_only"] and workflow.is_main_process and "--unlock" not in sys.argv:
+if not S.render_only and workflow.is_main_process and "--unlock" not in sys.argv:
     for _m in SIMULATED:
-        _stale = results_check.unrecorded_stale(
-            R, _m, pipeline.science(CFG, _m), SHARDS[_m]
-        )
+        _stale = results_check.unrecorded_stale(R, _m, SCIENCE[_m], SHARDS[_m])
         if _stale:
             print(
                 f"morphlearn: {_stale} was made by another science config or shard count and "
@@ -62,19 +64,16 @@ def shard_ids(model):
 def shard_params(model):
     """Rerun triggers: a shard depends on the science subset and on the designs it holds."""
     return lambda w: {
-        "science": cfgmod.digest(pipeline.science(CFG, model)),
+        "science": cfgmod.digest(SCIENCE[model]),
         "designs": cfgmod.digest(SHARDS[model][int(w.shard)].tolist()),
     }
 
 
 # Figures need the theory results; render_only re-renders them from stored results alone.
-RENDER_ONLY = CFG["render_only"]
-FIGURE_SPECS = figure_registry.FIGURES
-FIGURES = (
-    pipeline.figures(CFG) if CFG["figures"]["enabled"] and "theory" in MODELS else []
-)
-# Once per start: the options read the body file, and both a figure's inputs and params use them.
-FIGURE_OPTIONS = {fig: pipeline.figure_options(CFG, fig) for fig in FIGURES}
+RENDER_ONLY = S.render_only
+FIGURES = figure_options.figures(S)
+# Once per start: both a figure's inputs and its params use them.
+FIGURE_OPTIONS = {fig: figure_options.figure_options(S, fig) for fig in FIGURES}
 FIGURE_TARGETS = [
     *(f"{R}/figures/{fig}.{ext}" for fig in FIGURES for ext in ("png", "pdf", "html")),
     *([f"{R}/reproduction.md"] if FIGURES else []),
@@ -85,27 +84,24 @@ ALL_TARGETS = FIGURE_TARGETS + (
     else [
         *(f"{R}/{m}/metrics.csv" for m in MODELS),
         f"{R}/summary.md",
-        *([f"{R}/learners/summary.md"] if CFG["learners"]["enabled"] else []),
+        *([f"{R}/learners/summary.md"] if S.learners.enabled else []),
     ]
 )
 
 
 def figure_data(fig):
-    """Results a figure reads (registry), empirical only when that model is enabled."""
-    models = [
-        m
-        for m in FIGURE_SPECS[fig].reads
-        if m != "empirical" or FIGURE_OPTIONS[fig]["empirical_enabled"]
-    ]
+    """Results a figure reads (registry), of the models enabled."""
     return [
-        f"{R}/{m}/{name}" for m in models for name in ("metrics.csv", "merged.zarr")
-    ] + [f"{R}/{f}" for f in FIGURE_SPECS[fig].files]
+        f"{R}/{m}/{name}"
+        for m in figure_options.data_models(S, fig)
+        for name in ("metrics.csv", "merged.zarr")
+    ] + [f"{R}/{f}" for f in figure_registry.FIGURES[fig].files]
 
 
 # render_only: refuse to start, by name, when a stored result is missing or fails its digests.
 if RENDER_ONLY and FIGURES:
     try:
-        pipeline.check_render_inputs(
+        rules.check_render_inputs(
             [f"{R}/{m}/{n}" for m in MODELS for n in ("metrics.csv", "merged.zarr")]
         )
     except ValueError as err:

@@ -61,9 +61,7 @@ rule reproduction:
         # like a figure's: the package modules the script imports, so a code edit re-runs it
         code=figure_registry.notebook_modules("workflow/scripts/reproduction.py", "src"),
         # beyond the paper: the learner stage's correlations, when it runs
-        learners=(
-            [f"{R}/learners/correlations.csv"] if CFG["learners"]["enabled"] else []
-        ),
+        learners=([f"{R}/learners/correlations.csv"] if S.learners.enabled else []),
     output:
         csv=f"{R}/reproduction.csv",
         md=f"{R}/reproduction.md",
@@ -81,12 +79,11 @@ rule reproduction:
         "../../envs/figures.yaml"
     params:
         config_name=" + ".join(Path(f).name for f in reversed(workflow.configfiles)),
-        empirical="empirical" in MODELS,
-        learners=CFG["learners"]["enabled"],
-        near=CFG["figures"]["near_distance"],
-        limit=CFG["figures"]["persistence_controllers"],
-        settings=pipeline.trajectory_settings(CFG),
-        thresholds={m: pipeline.thresholds(CFG, m).__dict__ for m in MODELS},
+        learners=S.learners.enabled,
+        near=S.figures.near_distance,
+        limit=S.figures.persistence_controllers,
+        settings=figure_options.trajectory_settings(S),
+        thresholds={m: models.get(m).thresholds(S).__dict__ for m in MODELS},
     script:
         "../scripts/reproduction.py"
 

@@ -17,13 +17,13 @@ rule learners_shard:
         shard=r"\d+",
     conda:
         "../../envs/learners.yaml"
-    threads: CFG["learners"]["threads"]
+    threads: S.learners.threads
     resources:
         runtime=60,
         mem_mb=2000,
     params:
         key=lambda w: {
-            "science": cfgmod.digest(cfgmod.learner_science(CFG)),
+            "science": cfgmod.digest(learner_experiment.science(S)),
             "designs": cfgmod.digest(LEARNER_SHARDS[int(w.shard)].tolist()),
         },
     script:
@@ -48,6 +48,6 @@ rule learners_analysis:
     conda:
         "../../envs/learners.yaml"
     params:
-        bootstrap=CFG["learners"]["bootstrap"],
+        bootstrap=S.learners.bootstrap,
     script:
         "../scripts/learners_analysis.py"

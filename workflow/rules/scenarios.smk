@@ -7,15 +7,17 @@ from dataclasses import asdict
 from morphlearn import scenarios as scenmod
 
 try:
-    _SCENARIO_FILE = scenmod.read_file(CFG["scenario_file"])
-    SCENARIO_NAMES = scenmod.select(_SCENARIO_FILE, CFG["scenarios"])
-    SCENARIOS = {s.name: s for s in scenmod.expand(CFG, _SCENARIO_FILE, SCENARIO_NAMES)}
+    _SCENARIO_FILE = scenmod.read_file(S.scenario_file)
+    SCENARIO_NAMES = scenmod.select(_SCENARIO_FILE, S.scenarios)
+    SCENARIOS = {s.name: s for s in scenmod.expand(S, _SCENARIO_FILE, SCENARIO_NAMES)}
 except cfgmod.ConfigError as err:
     print(f"morphlearn: scenario error: {err}", file=sys.stderr)
     sys.exit(2)
 PLAN = scenmod.plan(list(SCENARIOS.values()), R)
-SR = scenmod.scenarios_dir(CFG)
-SIM_SHARDS = {sid: pipeline.shard_designs(c, "theory") for sid, c in PLAN.sims.items()}
+SR = scenmod.scenarios_dir(S)
+SIM_SHARDS = {
+    sid: models.get("theory").shard_designs(sim) for sid, sim in PLAN.sims.items()
+}
 SCENARIO_TARGETS = [
     f"{SR}/comparison.md",
     f"{SR}/comparison.png",
@@ -47,12 +49,12 @@ rule scenario_shard:
         shard=r"\d+",
     conda:
         "../../envs/theory.yaml"
-    threads: CFG["sweep"]["threads"]
+    threads: S.sweep.threads
     resources:
         runtime=60,
         mem_mb=2000,
     params:
-        cfg=lambda w: PLAN.sims[w.sim],
+        cfg=lambda w: PLAN.config(w.sim),
         designs=lambda w: cfgmod.digest(SIM_SHARDS[w.sim][int(w.shard)].tolist()),
     script:
         "../scripts/scenario_shard.py"
@@ -73,7 +75,7 @@ rule scenario_merge:
     conda:
         "../../envs/analysis.yaml"
     params:
-        cfg=lambda w: PLAN.sims[w.sim],
+        cfg=lambda w: PLAN.config(w.sim),
     script:
         "../scripts/scenario_merge.py"
 
@@ -91,13 +93,15 @@ rule scenario_metrics:
     conda:
         "../../envs/analysis.yaml"
     params:
-        cfg=lambda w: PLAN.metrics_config(w.scenario),
+        thresholds=lambda w: PLAN.thresholds(w.scenario).__dict__,
         record=lambda w: {
             "scenario": w.scenario,
             "overrides": SCENARIOS[w.scenario].overrides,
-            "theory": SCENARIOS[w.scenario].cfg["theory"],
+            "theory": dict(SCENARIOS[w.scenario].settings.source["theory"]),
             "answer": asdict(PLAN.answers[w.scenario]),
-            "simulated": PLAN.sims[PLAN.answers[w.scenario].sim]["theory"],
+            "simulated": dict(
+                PLAN.sims[PLAN.answers[w.scenario].sim].source["theory"]
+            ),
         },
     script:
         "../scripts/scenario_metrics.py"
@@ -116,7 +120,7 @@ rule scenario_summary:
     conda:
         "../../envs/analysis.yaml"
     params:
-        cfg=lambda w: SCENARIOS[w.scenario].cfg,
+        cfg=lambda w: dict(SCENARIOS[w.scenario].settings.source),
     script:
         "../scripts/scenario_summary.py"
 
@@ -138,7 +142,7 @@ rule scenario_compare:
     params:
         names=SCENARIO_NAMES,
         sims=sorted(PLAN.sims),
-        top=CFG["analysis"]["top"],
+        top=S.analysis.top,
         plan=scenmod.plan_markdown(PLAN, list(SCENARIOS.values())),
     script:
         "../scripts/scenario_compare.py"

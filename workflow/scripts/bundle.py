@@ -6,9 +6,8 @@ from pathlib import Path
 sys.path.insert(0, str(Path(snakemake.scriptdir)))  # noqa: F821
 from _entry import setup
 
-cfg = setup(snakemake)  # noqa: F821
+setup(snakemake)  # noqa: F821
 from morphlearn import bundle  # noqa: E402
 
 p = snakemake.params  # noqa: F821
-bundle.build(p.results, snakemake.output[0], positions_per_axis=p.positions, top=p.top,  # noqa: F821
-             made_by=bundle.made_by(list(p.configs), p.results))  # fmt: skip
+bundle.build(p.results, snakemake.output[0], top=p.top, made_by=bundle.made_by(list(p.configs), p.results))  # noqa: F821

@@ -6,9 +6,9 @@ from pathlib import Path
 sys.path.insert(0, str(Path(snakemake.scriptdir)))  # noqa: F821
 from _entry import setup
 
-cfg = setup(snakemake)  # noqa: F821
+s = setup(snakemake)  # noqa: F821
 from morphlearn.learners import experiment  # noqa: E402
 
 out = snakemake.output  # noqa: F821
-experiment.run_analysis(cfg, list(snakemake.input.shards), snakemake.input.metrics,  # noqa: F821
+experiment.run_analysis(s, list(snakemake.input.shards), snakemake.input.metrics,  # noqa: F821
                         out.runs, out.correlations, out.md)  # fmt: skip

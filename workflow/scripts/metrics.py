@@ -6,7 +6,8 @@ from pathlib import Path
 sys.path.insert(0, str(Path(snakemake.scriptdir)))  # noqa: F821
 from _entry import setup
 
-cfg = setup(snakemake)  # noqa: F821
-from morphlearn import pipeline  # noqa: E402
+s = setup(snakemake)  # noqa: F821
+from morphlearn import models, rules  # noqa: E402
 
-pipeline.run_metrics(cfg, snakemake.wildcards.model, snakemake.input[0], snakemake.output.table)  # noqa: F821
+model = snakemake.wildcards.model  # noqa: F821
+rules.run_metrics(model, models.get(model).thresholds(s), snakemake.input[0], snakemake.output.table)  # noqa: F821

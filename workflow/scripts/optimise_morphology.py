@@ -6,7 +6,7 @@ from pathlib import Path
 sys.path.insert(0, str(Path(snakemake.scriptdir)))  # noqa: F821
 from _entry import setup
 
-cfg = setup(snakemake)  # noqa: F821
+setup(snakemake)  # noqa: F821
 import matplotlib  # noqa: E402
 
 matplotlib.use("Agg")
@@ -15,7 +15,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 from morphlearn import store  # noqa: E402
 from morphlearn.empirical import optimise  # noqa: E402
 
-budget = cfg["empirical"]["optimise"]
+budget = snakemake.params.budget  # noqa: F821
 pareto, chosen = optimise.optimise(budget["evaluations"], budget["seed"], workers=snakemake.threads)  # noqa: F821
 out = snakemake.output  # noqa: F821
 with store.atomic_path(out.pareto) as tmp:

@@ -6,13 +6,12 @@ from pathlib import Path
 sys.path.insert(0, str(Path(snakemake.scriptdir)))  # noqa: F821
 from _entry import setup
 
-cfg = setup(snakemake)  # noqa: F821
+s = setup(snakemake)  # noqa: F821
 from morphlearn.figures import reproduction  # noqa: E402
 
 p, out = snakemake.params, snakemake.output  # noqa: F821
 table, persistence = reproduction.run(
-    cfg["results_dir"], p.config_name, p.thresholds.get("theory"), p.thresholds.get("empirical"),
-    p.empirical, p.settings, p.near, p.limit, p.learners,
-)  # fmt: skip
+    s.results_dir, p.config_name, dict(p.thresholds), p.settings, p.near, p.limit, p.learners
+)
 reproduction.write(table, out.csv, out.md, out.html)
 persistence.to_csv(out.persistence, index=False)

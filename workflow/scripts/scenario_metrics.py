@@ -7,9 +7,8 @@ sys.path.insert(0, str(Path(snakemake.scriptdir)))  # noqa: F821
 from _entry import setup
 
 setup(snakemake)  # noqa: F821
-from morphlearn import config as cfgmod  # noqa: E402
-from morphlearn import scenarios  # noqa: E402
+from morphlearn import metrics, scenarios  # noqa: E402
 
 smk = snakemake  # noqa: F821
-cfg = cfgmod.validate(dict(smk.params.cfg))
-scenarios.run_metrics(cfg, smk.input[0], smk.output.table, dict(smk.params.record), smk.output.record)
+th = metrics.Thresholds(**smk.params.thresholds)
+scenarios.run_metrics(th, smk.input[0], smk.output.table, dict(smk.params.record), smk.output.record)

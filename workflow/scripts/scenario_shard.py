@@ -1,4 +1,4 @@
-"""Rule scenario_shard: one shard of a scenario simulation (pipeline.run_shard, its own config)."""
+"""Rule scenario_shard: one shard of a scenario simulation (rules.run_shard, its own config)."""
 
 import sys
 from pathlib import Path
@@ -6,9 +6,7 @@ from pathlib import Path
 sys.path.insert(0, str(Path(snakemake.scriptdir)))  # noqa: F821
 from _entry import setup
 
-setup(snakemake)  # noqa: F821
-from morphlearn import config as cfgmod  # noqa: E402
-from morphlearn import pipeline  # noqa: E402
+s = setup(snakemake, snakemake.params.cfg)  # noqa: F821
+from morphlearn import rules  # noqa: E402
 
-cfg = cfgmod.validate(dict(snakemake.params.cfg))  # noqa: F821
-pipeline.run_shard(cfg, "theory", int(snakemake.wildcards.shard), snakemake.output[0])  # noqa: F821
+rules.run_shard(s, "theory", int(snakemake.wildcards.shard), snakemake.output[0])  # noqa: F821

@@ -30,27 +30,10 @@ def _provenance_record(res: ModelResults) -> dict[str, Any]:
 
 
 def science_summary(res: ModelResults) -> str:
-    """The config subset the dataset was made with (from the dataset itself)."""
-    sci = res.science
-    m = len(res.weights)
-    if res.model == "theory":
-        g, th = sci.get("grid", {}), sci.get("theory", {})
-        tol = (f"rtol = atol = {th.get('rtol')}" if th.get("integrator") == "dp5" else f"dt = {th.get('dt')}")
-        return (f"grid {g.get('positions_per_axis')} positions per axis per sensor, {g.get('weights')} "
-                f"weights per synapse; r = {th.get('r')}, T = {th.get('horizon')}, success radius "
-                f"{th.get('success_radius')}, integrator {th.get('integrator')} ({tol}), step cap "
-                f"{th.get('max_steps')}, mirror symmetry {sci.get('mirror_symmetry')}")  # fmt: skip
-    pr = sci.get("params", {})
-    how = ("one of each mirror pair simulated, the other derived" if sci.get("mirror_derive")
-           else "simulated")  # fmt: skip
-    if ad := sci.get("adaptive_weights"):
-        how += (f", weight grid refined adaptively around successes and near misses (within "
-                f"{ad.get('near')} contact distances; cells not simulated count as failures; "
-                "measured miss rate in docs/empirical_levers.md)")  # fmt: skip
-    return (f"{res.n_designs} designs {how} on the {sci.get('positions_per_axis')}-point grid, "
-            f"{m} weights per synapse; light distance {pr.get('light_distance', float('nan')):.4g}, "
-            f"{pr.get('steps')} steps of dt = {pr.get('dt')}, success = touching the light; body "
-            f"from the committed morphology (wheel radius {pr.get('wheel_radius', float('nan')):.4g})")  # fmt: skip
+    """The config subset the dataset was made with (from the dataset itself), in its model's words."""
+    from morphlearn import models
+
+    return models.get(res.model).describe(res.science, res.n_designs, len(res.weights))
 
 
 def resolution_note(res: ModelResults) -> str:

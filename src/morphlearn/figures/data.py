@@ -70,9 +70,11 @@ class ModelResults:
 
     @property
     def positions_per_axis(self) -> int | None:
-        """Grid positions per axis (theory keeps it under ``grid``, empirical at the top)."""
+        """Grid positions per axis, from the record as its model reads it (None: no record)."""
+        from morphlearn import models
+
         sci = self.science
-        return sci.get("grid", {}).get("positions_per_axis", sci.get("positions_per_axis"))
+        return models.get(self.model).positions_of(sci) if sci else None
 
     @property
     def weights(self) -> np.ndarray:
@@ -245,11 +247,6 @@ class TheorySettings:
     horizon: float
     radius: float
     tol: float = 1e-8
-
-    @classmethod
-    def from_config(cls, cfg: dict[str, Any]) -> TheorySettings:
-        th = cfg["theory"]
-        return cls(float(th["r"]), float(th["horizon"]), float(th["success_radius"]), float(th["rtol"]))
 
 
 def trajectories(design: Design, w: Point, s: TheorySettings) -> list[ReferenceTrajectory]:

@@ -30,11 +30,11 @@ class Figure:
     #: Models whose results (metrics.csv, merged.zarr) it reads; "empirical" only when that
     #: model is enabled, and its notebook then gets ``empirical_enabled = True``.
     reads: tuple[str, ...] = ("theory",)
-    #: Notebook parameters taken from the config (pipeline.figure_options): a key of the config's
-    #: ``figures`` section, or one of pipeline.DERIVED_FIGURE_OPTIONS.
+    #: Notebook parameters taken from the config (morphlearn.figures.options.figure_options): a key of the config's
+    #: ``figures`` section, or one of figures.options.DERIVED_FIGURE_OPTIONS.
     options: tuple[str, ...] = ()
     #: A config section whose ``enabled`` the figure needs (drawn only then), a condition of
-    #: pipeline.FIGURE_CONDITIONS, or None (always).
+    #: figures.options.FIGURE_CONDITIONS or STAGES, or None (always).
     needs: str | None = None
     #: Further results it reads, relative to results_dir.
     files: tuple[str, ...] = ()

@@ -245,7 +245,7 @@ def reproduction_table(theory: fd.ModelResults | None, empirical: fd.ModelResult
         ours |= empirical_rows(empirical)
     rows = []
     for key, quantity, paper in QUANTITIES:
-        res = theory if key.startswith("theory") else empirical
+        res = {"theory": theory, "empirical": empirical}[key.split("_", 1)[0]]  # a key names its model
         value, note = ours.get(key, (NOT_RUN, ""))
         rows.append({"key": key, "quantity": quantity, "paper": paper, "ours": value,
                      "config": _config(res, config_name), "note": note})  # fmt: skip
@@ -278,16 +278,17 @@ def persistence_counts(theory: fd.ModelResults, settings: fd.TheorySettings, nea
     return fd.persistence_table(fd.persistence_designs(theory), theory, settings, near, limit)
 
 
-def run(results_dir: str, config_name: str, theory_thresholds: dict[str, Any] | None,
-        empirical_thresholds: dict[str, Any] | None, empirical_enabled: bool, settings: dict[str, float],
+def run(results_dir: str, config_name: str, thresholds: dict[str, dict[str, Any]], settings: dict[str, float],
         near: float, limit: int, learners_enabled: bool = False) -> tuple[pd.DataFrame, pd.DataFrame]:  # fmt: skip
-    """Load the results and build (reproduction table, persistence table)."""
+    """Load the results of the models of ``thresholds`` (model -> its thresholds: the models this
+    config runs) and build (reproduction table, persistence table)."""
     corr = pd.read_csv(Path(results_dir) / "learners" / "correlations.csv") if learners_enabled else None
-    theory = fd.load_results(results_dir, "theory", theory_thresholds)
+    res = {m: fd.load_results(results_dir, m, th) for m, th in thresholds.items()}
+    missing = [m for m, r in res.items() if r is None]
+    if missing:
+        raise FileNotFoundError(f"{missing[0]} is enabled but its results are missing under {results_dir}")
+    theory, emp = res.get("theory"), res.get("empirical")
     if theory is None:
         raise FileNotFoundError(f"no theory results under {results_dir}")
-    emp = fd.load_results(results_dir, "empirical", empirical_thresholds) if empirical_enabled else None
-    if empirical_enabled and emp is None:
-        raise FileNotFoundError("empirical.enabled is true but the empirical results are missing")
     pers = persistence_counts(theory, fd.TheorySettings(**settings), near, limit)
     return reproduction_table(theory, emp, pers, config_name, near, corr), pers

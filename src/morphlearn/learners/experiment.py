@@ -17,10 +17,10 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 import pandas as pd
 
-from morphlearn import config as cfgmod
-from morphlearn import design_cache, store
-from morphlearn.grid import DesignGrid, split_shards
+from morphlearn import design_cache, models, store
+from morphlearn.grid import split_shards
 from morphlearn.metrics import CSV_FLOAT_FORMAT
+from morphlearn.settings import LearnerSettings, Settings
 
 if TYPE_CHECKING:
     from morphlearn.learners import protocols
@@ -29,20 +29,26 @@ if TYPE_CHECKING:
 # module at parse time for the shard lists only.
 
 
-def designs(cfg: dict[str, Any]) -> np.ndarray:
+def science(s: Settings) -> dict[str, Any]:
+    """The config subset that determines the learner stage's per-design numbers."""
+    th = models.get("theory").science(s)
+    return {"model": "learners", "theory": th["theory"], "grid": {"positions_per_axis": s.grid.positions_per_axis},
+            "learners": s.learners.science()}  # fmt: skip
+
+
+def designs(s: Settings) -> np.ndarray:
     """Designs the stage runs, in run order: the mirror representatives, shuffled with the base
     seed (so a shard's first designs, or ``max_designs``, are an unbiased sample)."""
-    s = cfgmod.LearnerSettings.from_config(cfg)
-    reps = DesignGrid(cfg["grid"]["positions_per_axis"]).representatives()
-    order = np.random.default_rng([s.seed, 15]).permutation(reps)
-    return order[: s.max_designs] if s.max_designs else order
+    lr = s.learners
+    order = np.random.default_rng([lr.seed, 15]).permutation(s.grid.designs.representatives())
+    return order[: lr.max_designs] if lr.max_designs else order
 
 
-def shards(cfg: dict[str, Any]) -> list[np.ndarray]:
-    return split_shards(designs(cfg), cfgmod.LearnerSettings.from_config(cfg).shards)
+def shards(s: Settings) -> list[np.ndarray]:
+    return split_shards(designs(s), s.learners.shards)
 
 
-def run_seed(s: cfgmod.LearnerSettings, design: int, learner: str, protocol: str, k: int) -> np.random.Generator:
+def run_seed(s: LearnerSettings, design: int, learner: str, protocol: str, k: int) -> np.random.Generator:
     """The generator of one run: a function of the base seed and the run's identity only."""
     from morphlearn.learners import algorithms, protocols
 
@@ -50,7 +56,7 @@ def run_seed(s: cfgmod.LearnerSettings, design: int, learner: str, protocol: str
     return np.random.default_rng(ident)
 
 
-def make_run(s: cfgmod.LearnerSettings, design: int, learner: str, protocol: str, k: int) -> protocols.Run:
+def make_run(s: LearnerSettings, design: int, learner: str, protocol: str, k: int) -> protocols.Run:
     from morphlearn.learners import algorithms, protocols
 
     lrn = algorithms.make(learner, run_seed(s, design, learner, protocol, k), s.sigma0)
@@ -59,16 +65,15 @@ def make_run(s: cfgmod.LearnerSettings, design: int, learner: str, protocol: str
     return protocols.sequential(lrn, s.per_phase, s.cycles)
 
 
-def run_designs(cfg: dict[str, Any], design_ids: np.ndarray) -> pd.DataFrame:
+def run_designs(settings: Settings, design_ids: np.ndarray) -> pd.DataFrame:
     """Every run of ``design_ids`` (all learners, protocols, seeds) batched together; one
     summary row per design x learner x protocol (stats.COLUMNS)."""
     from morphlearn.learners import protocols, stats
     from morphlearn.learners.objective import Evaluator
-    from morphlearn.theory import TheoryParams
 
-    s = cfgmod.LearnerSettings.from_config(cfg)
-    g = DesignGrid(cfg["grid"]["positions_per_axis"])
-    ev = Evaluator(g.coords(np.asarray(design_ids, dtype=np.int64)), TheoryParams.from_config(cfg["theory"]))
+    s = settings.learners
+    coords = settings.grid.designs.coords(np.asarray(design_ids, dtype=np.int64))
+    ev = Evaluator(coords, settings.models["theory"].params)
     keys = [(i, int(d), lr, pr) for i, d in enumerate(design_ids) for lr in s.learners for pr in s.protocols]
     runs = [(i, make_run(s, d, lr, pr, k)) for (i, d, lr, pr) in keys for k in range(s.seeds)]
     results = protocols.drive(ev, runs)
@@ -90,18 +95,18 @@ def _cached(path: Path, science: dict[str, Any]) -> pd.DataFrame | None:
     return pd.DataFrame(rec["rows"], columns=list(stats.COLUMNS))
 
 
-def run_shard(cfg: dict[str, Any], shard: int, out: str | Path) -> None:
+def run_shard(settings: Settings, shard: int, out: str | Path) -> None:
     """Run one shard's designs ``chunk`` at a time, reusing and writing the per-design cache
     (one JSON file per design, written atomically), then write the shard's table."""
-    s = cfgmod.LearnerSettings.from_config(cfg)
-    science = cfgmod.learner_science(cfg)
-    mine = shards(cfg)[shard]
-    folder = design_cache.cache_dir(cfg["results_dir"], "learners", science) if cfg.get("design_cache", True) else None
+    s = settings.learners
+    sci = science(settings)
+    mine = shards(settings)[shard]
+    folder = design_cache.cache_dir(settings.results_dir, "learners", sci) if settings.design_cache else None
     done: dict[int, pd.DataFrame] = {}
     if folder:
         folder.mkdir(parents=True, exist_ok=True)
         for d in mine:
-            rows = _cached(folder / f"design_{int(d)}.json", science)
+            rows = _cached(folder / f"design_{int(d)}.json", sci)
             if rows is not None:
                 done[int(d)] = rows
     todo = [int(d) for d in mine if int(d) not in done]
@@ -109,13 +114,13 @@ def run_shard(cfg: dict[str, Any], shard: int, out: str | Path) -> None:
     for a in range(0, len(todo), s.chunk):
         part = todo[a : a + s.chunk]
         t0, c0 = time.perf_counter(), time.process_time()
-        table = run_designs(cfg, np.array(part, dtype=np.int64))
+        table = run_designs(settings, np.array(part, dtype=np.int64))
         wall, cpu = time.perf_counter() - t0, time.process_time() - c0
         for d in part:
             rows = table[table.design == d]
             done[d] = rows
             if folder:
-                rec = {"science": science, "rows": json.loads(rows.to_json(orient="records"))}
+                rec = {"science": sci, "rows": json.loads(rows.to_json(orient="records"))}
                 with store.atomic_path(folder / f"design_{d}.json") as tmp:
                     tmp.write_text(json.dumps(rec, sort_keys=True) + "\n")
         print(f"learners shard {shard}: {a + len(part)}/{len(todo)} designs run ({wall:.1f} s wall, "
@@ -125,13 +130,13 @@ def run_shard(cfg: dict[str, Any], shard: int, out: str | Path) -> None:
         table.to_csv(tmp, index=False, float_format=CSV_FLOAT_FORMAT)
 
 
-def run_analysis(cfg: dict[str, Any], shard_csvs: list[str], metrics_csv: str, out_runs: str | Path,
+def run_analysis(settings: Settings, shard_csvs: list[str], metrics_csv: str, out_runs: str | Path,
                  out_corr: str | Path, out_md: str | Path) -> None:  # fmt: skip
     """Merge the shards (one row per design x learner x protocol, with the design's coordinates,
     M_L and M_CF), correlate (stats.correlations) and write a short summary."""
     from morphlearn.learners import stats
 
-    s = cfgmod.LearnerSettings.from_config(cfg)
+    s = settings.learners
     runs = pd.concat([pd.read_csv(p) for p in shard_csvs], ignore_index=True)
     metrics = pd.read_csv(metrics_csv)
     cols = ["design", "l1x", "l1y", "l2x", "l2y", "M_L", "M_CF"]
@@ -161,7 +166,7 @@ def _pos(r: pd.Series, key: str, n_key: str) -> str:
     return "n/a" if n is None or pd.isna(n) else f"{_ci(r, key)} (n = {int(n)})"
 
 
-def summary_markdown(corr: pd.DataFrame, s: cfgmod.LearnerSettings, n_designs: int) -> str:
+def summary_markdown(corr: pd.DataFrame, s: LearnerSettings, n_designs: int) -> str:
     lines = [
         "# Learners on the theory model (beyond the paper)", "",
         f"{n_designs} designs (one of each mirror pair), {s.seeds} seeds per design, learner and "

@@ -20,11 +20,20 @@ import math
 from collections.abc import Callable
 from typing import Any
 
+from morphlearn.results import STATUS_NONFINITE, STATUS_OK, STATUS_STEP_CAP, STATUS_STEP_UNDERFLOW
+
 #: Integrator codes.
 METHOD_DP5 = 0
 METHOD_RK4 = 1
-#: Adaptive step floor: below it the trajectory is stopped and flagged (STATUS_STEP_UNDERFLOW).
+#: Adaptive step control (scipy's ``_ivp/rk.py`` names): first step, step floor (below it the
+#: trajectory is stopped and flagged STATUS_STEP_UNDERFLOW), safety factor, and the clip of the
+#: step change per step; the error exponent is -1 / (order of the error estimate + 1).
+H_FIRST = 0.01
 H_MIN = 1e-12
+SAFETY = 0.9
+MIN_FACTOR = 0.2
+MAX_FACTOR = 10.0
+ERROR_EXPONENT = -1.0 / 5.0
 
 # Dormand-Prince 5(4) tableau.
 A21 = 1.0 / 5.0
@@ -153,95 +162,116 @@ def _normalise(y):
     return y[0], y[1], y[2] / n, y[3] / n
 
 
-def trajectory(x0, y0, l1x, l1y, l2x, l2y, w1, w2, radius, horizon, method, rtol, atol, dt, max_steps):
-    """Integrate one trajectory from ``(x0, y0)`` facing +x.
+def _rk4_step(y, h, l1x, l1y, l2x, l2y, w1, w2):
+    """One classical RK4 step (the fixed-step method)."""
+    k1 = rhs(y[0], y[1], y[2], y[3], l1x, l1y, l2x, l2y, w1, w2)
+    z = _lin1(y, h, 0.5, k1)
+    k2 = rhs(z[0], z[1], z[2], z[3], l1x, l1y, l2x, l2y, w1, w2)
+    z = _lin1(y, h, 0.5, k2)
+    k3 = rhs(z[0], z[1], z[2], z[3], l1x, l1y, l2x, l2y, w1, w2)
+    z = _lin1(y, h, 1.0, k3)
+    k4 = rhs(z[0], z[1], z[2], z[3], l1x, l1y, l2x, l2y, w1, w2)
+    return _lin4(y, h, 1.0 / 6.0, k1, 1.0 / 3.0, k2, 1.0 / 3.0, k3, 1.0 / 6.0, k4)
 
-    Returns ``(first_time, min_dist, status, steps)``; ``first_time`` is NaN without success.
-    Status codes match ``morphlearn.results``.
-    """
-    y = (x0, y0, 1.0, 0.0)
+
+def _dp5_step(y, h, k1, l1x, l1y, l2x, l2y, w1, w2):
+    """One Dormand-Prince 5(4) step from the tableau above: ``(y_new, k7, error estimate)``;
+    ``k7`` is the next step's ``k1`` (FSAL)."""
+    z = _lin1(y, h, A21, k1)
+    k2 = rhs(z[0], z[1], z[2], z[3], l1x, l1y, l2x, l2y, w1, w2)
+    z = _lin2(y, h, A31, k1, A32, k2)
+    k3 = rhs(z[0], z[1], z[2], z[3], l1x, l1y, l2x, l2y, w1, w2)
+    z = _lin3(y, h, A41, k1, A42, k2, A43, k3)
+    k4 = rhs(z[0], z[1], z[2], z[3], l1x, l1y, l2x, l2y, w1, w2)
+    z = _lin4(y, h, A51, k1, A52, k2, A53, k3, A54, k4)
+    k5 = rhs(z[0], z[1], z[2], z[3], l1x, l1y, l2x, l2y, w1, w2)
+    z = _lin5(y, h, A61, k1, A62, k2, A63, k3, A64, k4, A65, k5)
+    k6 = rhs(z[0], z[1], z[2], z[3], l1x, l1y, l2x, l2y, w1, w2)
+    yn = _lin5(y, h, B1, k1, B3, k3, B4, k4, B5, k5, B6, k6)
+    k7 = rhs(yn[0], yn[1], yn[2], yn[3], l1x, l1y, l2x, l2y, w1, w2)
+    e = (
+        h * (E1 * k1[0] + E3 * k3[0] + E4 * k4[0] + E5 * k5[0] + E6 * k6[0] + E7 * k7[0]),
+        h * (E1 * k1[1] + E3 * k3[1] + E4 * k4[1] + E5 * k5[1] + E6 * k6[1] + E7 * k7[1]),
+        h * (E1 * k1[2] + E3 * k3[2] + E4 * k4[2] + E5 * k5[2] + E6 * k6[2] + E7 * k7[2]),
+        h * (E1 * k1[3] + E3 * k3[3] + E4 * k4[3] + E5 * k5[3] + E6 * k6[3] + E7 * k7[3]),
+    )
+    return yn, k7, e
+
+
+def _rk4_trajectory(y, dmin, l1x, l1y, l2x, l2y, w1, w2, radius, horizon, dt, max_steps):
     t = 0.0
-    dmin = math.sqrt(x0 * x0 + y0 * y0)
-    if dmin <= radius:
-        return 0.0, dmin, 0, 0
     steps = 0
-    if method == METHOD_RK4:
-        while t < horizon:
-            if steps >= max_steps:
-                return math.nan, dmin, 2, steps
-            h = min(dt, horizon - t)
-            k1 = rhs(y[0], y[1], y[2], y[3], l1x, l1y, l2x, l2y, w1, w2)
-            z = _lin1(y, h, 0.5, k1)
-            k2 = rhs(z[0], z[1], z[2], z[3], l1x, l1y, l2x, l2y, w1, w2)
-            z = _lin1(y, h, 0.5, k2)
-            k3 = rhs(z[0], z[1], z[2], z[3], l1x, l1y, l2x, l2y, w1, w2)
-            z = _lin1(y, h, 1.0, k3)
-            k4 = rhs(z[0], z[1], z[2], z[3], l1x, l1y, l2x, l2y, w1, w2)
-            yn = _lin4(y, h, 1.0 / 6.0, k1, 1.0 / 3.0, k2, 1.0 / 3.0, k3, 1.0 / 6.0, k4)
-            steps += 1
-            if not _finite(yn):
-                return math.nan, dmin, 3, steps
-            yn = _normalise(yn)
-            dmin, t_hit = _chord(y[0], y[1], yn[0], yn[1], t, h, radius, dmin)
-            if t_hit >= 0.0:
-                return t_hit, dmin, 0, steps
-            y = yn
-            t += h
-        return math.nan, dmin, 0, steps
+    while t < horizon:
+        if steps >= max_steps:
+            return math.nan, dmin, STATUS_STEP_CAP, steps
+        h = min(dt, horizon - t)
+        yn = _rk4_step(y, h, l1x, l1y, l2x, l2y, w1, w2)
+        steps += 1
+        if not _finite(yn):
+            return math.nan, dmin, STATUS_NONFINITE, steps
+        yn = _normalise(yn)
+        dmin, t_hit = _chord(y[0], y[1], yn[0], yn[1], t, h, radius, dmin)
+        if t_hit >= 0.0:
+            return t_hit, dmin, STATUS_OK, steps
+        y = yn
+        t += h
+    return math.nan, dmin, STATUS_OK, steps
 
-    h = 0.01
+
+def _dp5_trajectory(y, dmin, l1x, l1y, l2x, l2y, w1, w2, radius, horizon, rtol, atol, max_steps):
+    t = 0.0
+    steps = 0
+    h = H_FIRST
     k1 = rhs(y[0], y[1], y[2], y[3], l1x, l1y, l2x, l2y, w1, w2)
     while t < horizon:
         if steps >= max_steps:
-            return math.nan, dmin, 2, steps
+            return math.nan, dmin, STATUS_STEP_CAP, steps
         if h < H_MIN:
-            return math.nan, dmin, 1, steps
+            return math.nan, dmin, STATUS_STEP_UNDERFLOW, steps
         last = h >= horizon - t
         if last:
             h = horizon - t
-        z = _lin1(y, h, A21, k1)
-        k2 = rhs(z[0], z[1], z[2], z[3], l1x, l1y, l2x, l2y, w1, w2)
-        z = _lin2(y, h, A31, k1, A32, k2)
-        k3 = rhs(z[0], z[1], z[2], z[3], l1x, l1y, l2x, l2y, w1, w2)
-        z = _lin3(y, h, A41, k1, A42, k2, A43, k3)
-        k4 = rhs(z[0], z[1], z[2], z[3], l1x, l1y, l2x, l2y, w1, w2)
-        z = _lin4(y, h, A51, k1, A52, k2, A53, k3, A54, k4)
-        k5 = rhs(z[0], z[1], z[2], z[3], l1x, l1y, l2x, l2y, w1, w2)
-        z = _lin5(y, h, A61, k1, A62, k2, A63, k3, A64, k4, A65, k5)
-        k6 = rhs(z[0], z[1], z[2], z[3], l1x, l1y, l2x, l2y, w1, w2)
-        yn = _lin5(y, h, B1, k1, B3, k3, B4, k4, B5, k5, B6, k6)
-        k7 = rhs(yn[0], yn[1], yn[2], yn[3], l1x, l1y, l2x, l2y, w1, w2)
+        yn, k7, e = _dp5_step(y, h, k1, l1x, l1y, l2x, l2y, w1, w2)
         steps += 1
-        e = (
-            h * (E1 * k1[0] + E3 * k3[0] + E4 * k4[0] + E5 * k5[0] + E6 * k6[0] + E7 * k7[0]),
-            h * (E1 * k1[1] + E3 * k3[1] + E4 * k4[1] + E5 * k5[1] + E6 * k6[1] + E7 * k7[1]),
-            h * (E1 * k1[2] + E3 * k3[2] + E4 * k4[2] + E5 * k5[2] + E6 * k6[2] + E7 * k7[2]),
-            h * (E1 * k1[3] + E3 * k3[3] + E4 * k4[3] + E5 * k5[3] + E6 * k6[3] + E7 * k7[3]),
-        )
         err = _err_norm(y, yn, e, rtol, atol)
         if not (err <= 1.0):  # also catches NaN: shrink and retry
             if not _finite(yn) or not math.isfinite(err):
-                h = h * 0.2
+                h = h * MIN_FACTOR
             else:
-                h = h * max(0.2, 0.9 * err**-0.2)
+                h = h * max(MIN_FACTOR, SAFETY * err**ERROR_EXPONENT)
             continue
         if not _finite(yn):
-            return math.nan, dmin, 3, steps
+            return math.nan, dmin, STATUS_NONFINITE, steps
         dmin, t_hit = _chord(y[0], y[1], yn[0], yn[1], t, h, radius, dmin)
         if t_hit >= 0.0:
-            return t_hit, dmin, 0, steps
+            return t_hit, dmin, STATUS_OK, steps
         t = horizon if last else t + h
         # FSAL: k7 belongs to the unnormalised state; the difference is O(rtol) and within the
         # step's own error, while re-evaluating would cost a seventh stage per step.
         y = _normalise(yn)
         k1 = k7
-        fac = 10.0 if err == 0.0 else min(10.0, max(0.2, 0.9 * err**-0.2))
+        fac = MAX_FACTOR if err == 0.0 else min(MAX_FACTOR, max(MIN_FACTOR, SAFETY * err**ERROR_EXPONENT))
         h = h * fac
-    return math.nan, dmin, 0, steps
+    return math.nan, dmin, STATUS_OK, steps
 
 
-_FUNCS = ("rhs", "_lin1", "_lin2", "_lin3", "_lin4", "_lin5", "_err_norm", "_chord", "_finite",
-          "_normalise", "trajectory")  # fmt: skip
+def trajectory(x0, y0, l1x, l1y, l2x, l2y, w1, w2, radius, horizon, method, rtol, atol, dt, max_steps):
+    """Integrate one trajectory from ``(x0, y0)`` facing +x with the method ``method``.
+
+    Returns ``(first_time, min_dist, status, steps)``; ``first_time`` is NaN without success.
+    Status codes are ``morphlearn.results``'s.
+    """
+    y = (x0, y0, 1.0, 0.0)
+    dmin = math.sqrt(x0 * x0 + y0 * y0)
+    if dmin <= radius:
+        return 0.0, dmin, STATUS_OK, 0
+    if method == METHOD_RK4:
+        return _rk4_trajectory(y, dmin, l1x, l1y, l2x, l2y, w1, w2, radius, horizon, dt, max_steps)
+    return _dp5_trajectory(y, dmin, l1x, l1y, l2x, l2y, w1, w2, radius, horizon, rtol, atol, max_steps)
+
+
+_FUNCS = ("rhs", "_lin1", "_lin2", "_lin3", "_lin4", "_lin5", "_err_norm", "_chord", "_finite", "_normalise",
+          "_rk4_step", "_dp5_step", "_rk4_trajectory", "_dp5_trajectory", "trajectory")  # fmt: skip
 
 
 def build(jit: Callable[[Any], Any]) -> Callable[..., tuple[float, float, int, int]]:

@@ -1,0 +1,277 @@
+"""The physics models as plug-ins of the model registry (:mod:`morphlearn.models`).
+
+:class:`Physics` is what every rigid-body engine model shares: the same config section shape
+(``enabled``, ``morphology``, ``params``, ``weights``, ``designs``, mirrors, levers, ``results_from``,
+``shards``), the same success rule (touching the light within the episode) and the same record.
+An engine is a subclass naming its engine and its per-design evaluator; :class:`Pybullet` is the
+reference engine, registered as ``empirical``.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import platform
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass
+from pathlib import Path
+from types import MappingProxyType
+from typing import TYPE_CHECKING, Any, ClassVar
+
+import numpy as np
+
+from morphlearn.config import ConfigError
+from morphlearn.empirical.options import SweepOptions
+from morphlearn.empirical.params import EmpiricalParams, load_params
+from morphlearn.model_interface import Done, Model, Resources
+
+if TYPE_CHECKING:
+    from morphlearn.grid import DesignGrid
+    from morphlearn.metrics import Thresholds
+    from morphlearn.results import DesignResult
+    from morphlearn.settings import GridSettings, Settings
+
+DEFAULT_MORPHOLOGY = "config/empirical_morphology.yaml"
+
+
+@dataclass(frozen=True)
+class PhysicsSettings:
+    """A physics model's section, typed, with its body file read (once)."""
+
+    enabled: bool
+    morphology: str
+    #: the body file's parameters with the section's ``params`` overrides (None when not read:
+    #: the model is off and no figure draws the body)
+    params: EmpiricalParams | None
+    weights: int
+    held: tuple[int, ...]  # designs its results hold
+    simulated: tuple[int, ...]  # designs it simulates (with mirror_derive one of each pair)
+    mirror_derive: bool
+    results_from: str | None
+    #: the thresholds a bundle's metrics were made with (results_from), else None
+    bundle_thresholds: Mapping[str, float] | None
+    options: SweepOptions
+    shards: int
+    optimise: Mapping[str, int]
+    science: Mapping[str, Any] | None
+
+
+class Physics(Model):
+    """A rigid-body engine's model of the robot (see the module docstring)."""
+
+    #: The engine, as records and captions name it.
+    engine: ClassVar[str]
+    cli_options = ("morphology",)
+
+    # -- settings ----------------------------------------------------------------------------------
+    def parse(self, cfg: Mapping[str, Any], grid: GridSettings) -> PhysicsSettings:
+        sec = cfg.get(self.name, {})
+        enabled = bool(sec.get("enabled"))
+        g = grid.designs
+        results_from = sec.get("results_from")
+        bundle_th = None
+        if enabled and results_from is not None:
+            bundle_th = self._check_results_from(results_from, grid.positions_per_axis)
+        params, body = None, None
+        # the body file is read here, once: the sweep's science and Fig. 1C (the body) need it
+        if enabled or cfg["figures"]["enabled"]:
+            body = self._read_body(sec.get("morphology", DEFAULT_MORPHOLOGY))
+        overrides = dict(sec.get("params", {}))
+        if enabled and results_from is None:  # a bundle's results carry their own parameters
+            self._check_params(overrides)
+        if body is not None:
+            params = EmpiricalParams.from_mapping({**body.to_dict(), **overrides})
+        simulates = enabled and results_from is None
+        held = self._held(sec, g) if simulates else []
+        mirror_derive = bool(sec.get("mirror_derive", False))
+        simulated = sorted({min(d, int(g.mirror(d))) for d in held}) if mirror_derive else list(held)
+        if simulates:
+            self._check_designs(sec, held, simulated)
+        options = SweepOptions.from_config(sec)
+        science = None
+        if simulates:
+            science = {
+                "model": self.name,
+                "positions_per_axis": grid.positions_per_axis,
+                "weights": sec["weights"],
+                "designs": list(held),
+                "params": {**body.to_dict(), **overrides},
+                # only when on, so that the digests of results made before the option existed hold
+                **({"mirror_derive": True} if mirror_derive else {}),
+                **options.science(),
+            }
+        return PhysicsSettings(
+            enabled=enabled, morphology=sec.get("morphology", DEFAULT_MORPHOLOGY), params=params,
+            weights=sec.get("weights", 11), held=tuple(held), simulated=tuple(simulated),
+            mirror_derive=mirror_derive, results_from=results_from,
+            bundle_thresholds=MappingProxyType(bundle_th) if bundle_th else None, options=options,
+            shards=sec.get("shards", 1), optimise=MappingProxyType(dict(sec.get("optimise", {}))),
+            science=MappingProxyType(science) if science else None,
+        )  # fmt: skip
+
+    def _read_body(self, path: str) -> EmpiricalParams:
+        try:
+            return load_params(path)
+        except ValueError as e:
+            raise ConfigError(f"{self.name}.morphology = {path!r}: {e}; allowed: a YAML file of body "
+                              "parameters") from None  # fmt: skip
+
+    def _check_params(self, overrides: Mapping[str, Any]) -> None:
+        for k in overrides:
+            if k not in EmpiricalParams.__dataclass_fields__:
+                raise ConfigError(f"unknown key ['{k}'] under '{self.name}.params'; "
+                                  f"allowed: {sorted(EmpiricalParams.__dataclass_fields__)}")  # fmt: skip
+        try:
+            EmpiricalParams.from_mapping(overrides)
+        except ValueError as e:
+            raise ConfigError(f"{self.name}.params.{e}") from None
+
+    def _held(self, sec: Mapping[str, Any], g: DesignGrid) -> list[int]:
+        """Sorted design indices the results hold: every design, or the listed ones (and with
+        ``include_mirrors`` their mirror images)."""
+        designs = sec.get("designs", "all")
+        if designs == "all":
+            return list(range(g.size))
+        idx = []
+        for i, (l1, l2) in enumerate(designs):
+            try:
+                idx.append(g.index_of(tuple(l1), tuple(l2)))
+            except ValueError as e:
+                raise ConfigError(f"{self.name}.designs.{i}: {e}") from None
+        d = np.array(idx, dtype=np.int64)
+        if sec.get("include_mirrors", True):
+            d = np.concatenate([d, g.mirror(d)])
+        return sorted({int(x) for x in d})
+
+    def _check_designs(self, sec: Mapping[str, Any], held: list[int], simulated: list[int]) -> None:
+        if sec.get("mirror_derive") and sec.get("designs") != "all" and not sec.get("include_mirrors", True):
+            raise ConfigError(f"{self.name}.mirror_derive = true needs the mirror images in the results; "
+                              f"allowed: {self.name}.include_mirrors = true or {self.name}.designs = all")  # fmt: skip
+        if sec["shards"] > len(simulated):
+            raise ConfigError(f"{self.name}.shards = {sec['shards']} exceeds the {len(simulated)} designs "
+                              f"simulated; allowed: 1..{len(simulated)}")  # fmt: skip
+
+    def _check_results_from(self, path: str, n: int) -> dict[str, float]:
+        """A bundle to read the results from: present, on this config's grid (its checksums are
+        checked when the results are copied, by the rule <model>_from_bundle). Returns the
+        thresholds its metrics were made with."""
+        from morphlearn import bundle
+
+        key = f"{self.name}.results_from"
+        need = [Path(path) / "bundle.json", Path(path) / self.name / "metrics.csv",
+                Path(path) / self.name / "merged.zarr"]  # fmt: skip
+        missing = [str(p) for p in need if not p.exists()]
+        if missing:
+            raise ConfigError(f"{key} = {path!r}: {missing[0]} is missing; allowed: a results bundle "
+                              f"with {self.name} results (e.g. results/survey), or null to simulate")  # fmt: skip
+        try:
+            positions = bundle.positions_of(Path(path) / self.name)
+            prov = json.loads((Path(path) / self.name / "metrics.provenance.json").read_text())
+            thresholds = dict(prov["config"]["thresholds"])
+        except Exception as e:  # a damaged store: say which and why, in one line
+            raise ConfigError(f"{key} = {path!r}: unreadable {self.name} results ({e})") from None
+        if positions != n:
+            raise ConfigError(f"{key} = {path!r} holds results on the {positions}-point grid; "
+                              f"allowed: a bundle on grid.positions_per_axis = {n}")  # fmt: skip
+        return thresholds
+
+    def results_from(self, s: Settings) -> str | None:
+        return self.settings(s).results_from
+
+    # -- the sweep ---------------------------------------------------------------------------------
+    def inputs(self, s: Settings) -> dict[str, str]:
+        return {"morphology": self.settings(s).morphology}
+
+    def designs(self, s: Settings) -> np.ndarray:
+        return np.array(self.settings(s).simulated, dtype=np.int64)
+
+    def science(self, s: Settings) -> dict[str, Any]:
+        import copy
+
+        return copy.deepcopy(dict(self.settings(s).science or {}))
+
+    def mirror_derived(self, s: Settings) -> bool:
+        """Physics mirror images are simulated unless ``mirror_derive`` (an engine is symmetric
+        only to solver tolerance)."""
+        return self.settings(s).mirror_derive
+
+    def thresholds(self, s: Settings) -> Thresholds:
+        from morphlearn.metrics import Thresholds
+
+        e = self.settings(s)
+        if e.bundle_thresholds is not None:  # the bundle's own, as its metrics were made
+            return Thresholds(**e.bundle_thresholds)
+        p = e.params  # success = touching the light within the episode
+        return Thresholds(p.horizon, p.contact_distance, p.horizon, p.contact_distance)
+
+    @staticmethod
+    def design_evaluator() -> Callable[..., DesignResult]:
+        """The engine's ``evaluate_design(l1, l2, weights, params, progress=, options=)``."""
+        raise NotImplementedError
+
+    def evaluate(self, s: Settings, designs: np.ndarray, done: Done | None = None) -> list[DesignResult]:
+        from tqdm import tqdm
+
+        from morphlearn.progress import EpisodeProgress
+
+        e = self.settings(s)
+        evaluate_design = self.design_evaluator()
+        w = self.weights(s)
+        out = []
+        for i, c in enumerate(tqdm(s.grid.designs.coords(designs), unit="design", mininterval=1.0)):
+            log = EpisodeProgress(f"design {int(designs[i])} ({i + 1}/{len(designs)})")
+            out.append(evaluate_design((c[0], c[1]), (c[2], c[3]), w, e.params, progress=log, options=e.options))
+            if done:
+                done(i, out[-1])
+        return out
+
+    def backend(self, s: Settings) -> dict[str, str]:
+        return {"backend": self.engine, "device": f"cpu ({platform.machine()})"}
+
+    def resources(self, s: Settings) -> Resources:
+        return Resources(threads=1, runtime=240, mem_mb=2000)
+
+    # -- records -----------------------------------------------------------------------------------
+    def positions_of(self, science: Mapping[str, Any]) -> int:
+        return int(science["positions_per_axis"])
+
+    def describe(self, science: Mapping[str, Any], n_designs: int, m: int) -> str:
+        pr = science.get("params", {})
+        how = ("one of each mirror pair simulated, the other derived" if science.get("mirror_derive")
+               else "simulated")  # fmt: skip
+        if ad := science.get("adaptive_weights"):
+            how += (f", weight grid refined adaptively around successes and near misses (within "
+                    f"{ad.get('near')} contact distances; cells not simulated count as failures; "
+                    "measured miss rate in docs/empirical_levers.md)")  # fmt: skip
+        return (f"{n_designs} designs {how} on the {science.get('positions_per_axis')}-point grid, "
+                f"{m} weights per synapse; light distance {pr.get('light_distance', float('nan')):.4g}, "
+                f"{pr.get('steps')} steps of dt = {pr.get('dt')}, success = touching the light; body "
+                f"from the committed morphology (wheel radius {pr.get('wheel_radius', float('nan')):.4g})")  # fmt: skip
+
+    def evaluate_one(self, l1: tuple[float, float], l2: tuple[float, float], w: np.ndarray,
+                     a: argparse.Namespace) -> DesignResult:  # fmt: skip
+        from morphlearn.cli import UsageError, c_stdout_to_stderr
+
+        path = a.morphology or DEFAULT_MORPHOLOGY
+        if not Path(path).is_file():
+            raise UsageError(f"--morphology {path}: no such file (a YAML of body parameters)")
+        try:
+            params = load_params(path)
+        except ValueError as e:
+            raise UsageError(f"--morphology {path}: {e}") from None
+        with c_stdout_to_stderr():  # pybullet's banner
+            return self.design_evaluator()(l1, l2, w, params)
+
+
+class Pybullet(Physics):
+    """The reference engine (DESIGN.md section 3), registered as ``empirical``."""
+
+    name = "empirical"
+    engine = "pybullet"
+    env_file = "envs/empirical.yaml"
+
+    @staticmethod
+    def design_evaluator() -> Callable[..., DesignResult]:
+        from morphlearn.empirical.episode import evaluate_design
+
+        return evaluate_design

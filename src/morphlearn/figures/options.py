@@ -1,0 +1,83 @@
+"""Which figures a config draws, and each figure's notebook parameters from the settings.
+
+Light imports only: the Snakefile imports this module at parse time.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from typing import Any
+
+from morphlearn import models
+from morphlearn.figures.registry import FIGURES as FIGURE_SPECS
+from morphlearn.settings import Settings
+
+#: The paper's figures, drawn by every run; :func:`figures` adds those of enabled extra stages.
+PAPER_FIGURES = tuple(f for f, spec in FIGURE_SPECS.items() if spec.needs is None)
+
+
+def empirical_survey(s: Settings) -> bool:
+    """The physics results cover every design of the grid (simulated, or read from a bundle)."""
+    e = s.models["empirical"]
+    return e.enabled and (e.results_from is not None or len(e.held) == s.grid.designs.size)
+
+
+#: Figure conditions besides "a config section is enabled" (registry ``needs``).
+FIGURE_CONDITIONS: dict[str, Callable[[Settings], bool]] = {"empirical_survey": empirical_survey}
+#: Config sections with an ``enabled`` switch that a figure may need.
+STAGES: dict[str, Callable[[Settings], bool]] = {"learners": lambda s: s.learners.enabled}
+
+
+def figures(s: Settings) -> list[str]:
+    """The figures this config draws (none without figures.enabled and the reference model):
+    the paper's and those whose ``needs`` is met."""
+    if not (s.figures.enabled and models.MODELS[models.REFERENCE].enabled(s)):
+        return []
+
+    def met(needs: str | None) -> bool:
+        if needs is None:
+            return True
+        return {**FIGURE_CONDITIONS, **STAGES}[needs](s)
+
+    return [f for f, spec in FIGURE_SPECS.items() if met(spec.needs)]
+
+
+def trajectory_settings(s: Settings) -> dict[str, float]:
+    """What a reference trajectory for a figure needs (figures.data.TheorySettings fields)."""
+    p = s.models["theory"].params
+    return {"r": p.r, "horizon": p.horizon, "radius": p.success_radius, "tol": p.rtol}
+
+
+#: Figure options computed from the settings rather than read from its ``figures`` section.
+DERIVED_FIGURE_OPTIONS: dict[str, Callable[[Settings], Any]] = {
+    "morphology": lambda s: s.models["empirical"].params.to_dict(),  # Fig. 1C: the physics body
+    "trajectory_settings": trajectory_settings,
+    "top": lambda s: s.analysis.top,  # the survey figure's sensor maps: the summary's top designs
+}
+
+
+def figure_options(s: Settings, fig: str) -> dict[str, Any]:
+    """Notebook parameters of figure ``fig`` (registry: what it reads and takes).
+
+    Only what that figure uses, so that changing a figure parameter re-renders only the figures
+    that depend on it: ``<model>_thresholds`` of the models it reads (a model other than the
+    reference only when enabled, with ``<model>_enabled``), then its options from
+    DERIVED_FIGURE_OPTIONS or ``figures.<name>``.
+    """
+    spec = FIGURE_SPECS[fig]
+    opts: dict[str, Any] = {}
+    for name in spec.reads:
+        m = models.get(name)
+        on = m.enabled(s)
+        if name != models.REFERENCE:
+            opts[f"{name}_enabled"] = on
+        if on or name == models.REFERENCE:
+            opts[f"{name}_thresholds"] = m.thresholds(s).__dict__
+    for name in spec.options:
+        opts[name] = DERIVED_FIGURE_OPTIONS[name](s) if name in DERIVED_FIGURE_OPTIONS else s.figures.option(name)
+    return opts
+
+
+def data_models(s: Settings, fig: str) -> list[str]:
+    """The models whose results a figure reads (registry), those off left out."""
+    return [m for m in FIGURE_SPECS[fig].reads if models.get(m).enabled(s)]

@@ -1,0 +1,127 @@
+"""The model interface: what every model plug-in implements (the registry: :mod:`morphlearn.models`).
+
+A model is a plug-in (:class:`Model`): its name, its config section parsed into its own settings,
+the designs it simulates and their shards, its weights, its science record, how it handles mirror
+images, how it evaluates a batch of designs, the backend and device it records, and its rule's
+resources. The workflow's simulate / merge / metrics rules are written once and instantiated per
+registered model; summary, compare, bundle, provenance, captions, the reproduction table and the
+CLI ask the registry instead of comparing names.
+
+To add a model: its own package with a :class:`Model` subclass, one line in
+``morphlearn.models.MODELS``, and its config section in ``config_schema.yaml``.
+
+Light imports only: the Snakefile imports this module at parse time.
+"""
+
+from __future__ import annotations
+
+import argparse
+from abc import ABC, abstractmethod
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any, ClassVar
+
+import numpy as np
+
+from morphlearn.grid import split_shards
+
+if TYPE_CHECKING:
+    from morphlearn.metrics import Thresholds
+    from morphlearn.results import DesignResult
+    from morphlearn.settings import GridSettings, Settings
+
+#: Called as each design of a batch finishes: (index in the batch, its result).
+Done = Callable[[int, "DesignResult"], None]
+
+
+@dataclass(frozen=True)
+class Resources:
+    """What a model's shard rule asks of the scheduler."""
+
+    threads: int
+    runtime: int  # minutes
+    mem_mb: int
+    gpu: int = 0
+
+
+class Model(ABC):
+    """The interface every model implements (see the module docstring)."""
+
+    #: Registry key, config section, results folder name and the ``model`` of its records.
+    name: ClassVar[str]
+    #: The per-rule environment of its shard rule (``envs/``), for ``--sdm conda``.
+    env_file: ClassVar[str]
+    #: Options of ``morphlearn design`` this model takes (others are refused, by name).
+    cli_options: ClassVar[tuple[str, ...]] = ()
+
+    # -- settings (parsed once, at the edge) ---------------------------------------------------
+    @abstractmethod
+    def parse(self, cfg: Mapping[str, Any], grid: GridSettings) -> Any:
+        """This model's section of the validated config, typed; files it names read once.
+        Raises ConfigError for a bad value, naming the key."""
+
+    def settings(self, s: Settings) -> Any:
+        return s.models[self.name]
+
+    def enabled(self, s: Settings) -> bool:
+        return bool(self.settings(s).enabled)
+
+    def results_from(self, s: Settings) -> str | None:
+        """A bundle its results are read from instead of simulated (None: simulate)."""
+        return None
+
+    def simulates(self, s: Settings) -> bool:
+        return self.enabled(s) and self.results_from(s) is None
+
+    # -- the sweep ---------------------------------------------------------------------------------
+    def inputs(self, s: Settings) -> dict[str, str]:
+        """Files its shard rule reads (editing one re-runs the shards), by name."""
+        return {}
+
+    @abstractmethod
+    def designs(self, s: Settings) -> np.ndarray:
+        """Sorted design indices this model simulates (mirror images it derives left out)."""
+
+    def shard_designs(self, s: Settings) -> list[np.ndarray]:
+        return split_shards(self.designs(s), self.settings(s).shards)
+
+    def weights(self, s: Settings) -> np.ndarray:
+        return s.weights(self.name)
+
+    @abstractmethod
+    def science(self, s: Settings) -> dict[str, Any]:
+        """The config subset that determines its numbers (its digest keys caches and stores)."""
+
+    @abstractmethod
+    def mirror_derived(self, s: Settings) -> bool:
+        """Whether the merge derives the mirror images of the simulated designs."""
+
+    @abstractmethod
+    def thresholds(self, s: Settings) -> Thresholds:
+        """Success thresholds its metrics apply to the stored arrays."""
+
+    @abstractmethod
+    def evaluate(self, s: Settings, designs: np.ndarray, done: Done | None = None) -> list[DesignResult]:
+        """Results of ``designs`` (flat indices), in order; ``done`` as each one finishes."""
+
+    @abstractmethod
+    def backend(self, s: Settings) -> dict[str, str]:
+        """The backend and device that make its shards (recorded, compared at the merge)."""
+
+    @abstractmethod
+    def resources(self, s: Settings) -> Resources: ...
+
+    # -- reading its records -----------------------------------------------------------------------
+    @abstractmethod
+    def positions_of(self, science: Mapping[str, Any]) -> int:
+        """Positions per axis of the grid a science record was made on."""
+
+    @abstractmethod
+    def describe(self, science: Mapping[str, Any], n_designs: int, m: int) -> str:
+        """One sentence for captions: the settings a dataset was made with (from its record)."""
+
+    # -- the command line (``morphlearn design``) ---------------------------------------------------
+    @abstractmethod
+    def evaluate_one(self, l1: tuple[float, float], l2: tuple[float, float], w: np.ndarray,
+                     a: argparse.Namespace) -> DesignResult:  # fmt: skip
+        """One design's results for the CLI, from its options (already range-checked)."""

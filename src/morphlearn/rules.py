@@ -1,0 +1,85 @@
+"""What the simulate / merge / metrics rules do, for any registered model: the rule scripts
+(``workflow/scripts``) parse the settings and call these."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import pandas as pd
+
+from morphlearn import design_cache, metrics, models, provenance, store
+from morphlearn.results import DesignResult
+from morphlearn.settings import Settings
+
+
+def run_shard(s: Settings, model: str, shard: int, out: str | Path) -> None:
+    """Evaluate one shard; with ``design_cache`` (default) reuse the designs already finished under
+    the same science (design_cache) and save each new one as soon as it is done."""
+    m = models.get(model)
+    g = s.grid.designs
+    designs = m.shard_designs(s)[shard]
+    sci = m.science(s)
+    w = m.weights(s)
+    prov = provenance.record(sci) | m.backend(s)
+    results: dict[int, DesignResult] = {}
+    folder = design_cache.cache_dir(s.results_dir, model, sci) if s.design_cache else None
+    if folder:
+        results = design_cache.load(folder, designs, model=model, science=sci, m=len(w))
+    todo = np.array([d for d in designs if int(d) not in results], dtype=np.int64)
+    print(f"shard {shard}: {len(designs)} designs, reused {len(results)}, to compute {len(todo)}"
+          + (f" (design cache {folder})" if folder else ""), flush=True)  # fmt: skip
+
+    def finished(i: int, r: DesignResult) -> None:
+        results[int(todo[i])] = r
+        if folder:
+            design_cache.save(folder, int(todo[i]), r, model=model, grid=g, weights=w, science=sci,
+                              provenance=prov)  # fmt: skip
+        print(f"shard {shard}: design {int(todo[i])} computed ({i + 1}/{len(todo)})", flush=True)
+
+    if len(todo):
+        m.evaluate(s, todo, done=finished)
+    store.write_shard(out, model=model, grid=g, weights=w, designs=designs,
+                      results=[results[int(d)] for d in designs], science=sci, provenance=prov)  # fmt: skip
+
+
+def run_merge(s: Settings, model: str, shards: list[str], out: str | Path) -> None:
+    m = models.get(model)
+    sci = m.science(s)
+    store.merge_shards(
+        shards, out, model=model, grid=s.grid.designs, weights=m.weights(s),
+        shard_designs=m.shard_designs(s), science=sci, mirror=m.mirror_derived(s),
+        provenance=provenance.record(sci, shards),
+    )  # fmt: skip
+
+
+def run_metrics(model: str, th: metrics.Thresholds, merged: str | Path, out_csv: str | Path) -> None:
+    """The metrics table of a merged store at thresholds ``th`` (a model's, or a scenario's)."""
+    ds = store.open_merged(merged)
+    table = metrics.metrics_table(ds, th)  # verifies every chunk before anything is written
+    subset = {"thresholds": th.__dict__, "model": model,
+              "merged_sha256_overall": ds.attrs["integrity"]["overall"]}  # fmt: skip
+    write_csv_with_provenance(table, out_csv, subset, [merged])
+
+
+def write_csv_with_provenance(table: pd.DataFrame, out_csv: str | Path, subset: dict[str, Any],
+                              inputs: list) -> None:  # fmt: skip
+    out_csv = Path(out_csv)
+    with store.atomic_path(out_csv) as tmp:
+        table.to_csv(tmp, index=False, float_format=metrics.CSV_FLOAT_FORMAT)
+    prov = provenance.record(subset, inputs)
+    with store.atomic_path(out_csv.with_suffix(".provenance.json")) as tmp:
+        tmp.write_text(json.dumps(prov, indent=1, sort_keys=True) + "\n")
+
+
+def check_render_inputs(paths: list[str]) -> None:
+    """Render-only starts only from complete results: every file present, every merged store's
+    digest record, coordinates and chunk files intact (raises store.IntegrityError naming the
+    first). The figures verify each design's chunks when they read them."""
+    for p in sorted(paths):
+        if not Path(p).exists():
+            raise store.IntegrityError(f"{p}: missing (render_only re-renders from stored results)")
+        if p.endswith(".zarr"):
+            store.check_merged_files(p)

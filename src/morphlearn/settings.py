@@ -1,0 +1,164 @@
+"""Settings: the validated config, parsed once at the edge into frozen, typed objects.
+
+The edge is the Snakefile (``workflow/rules/common.smk``), each rule script's entry
+(``workflow/scripts/_entry.py``) and the CLI. They call :func:`parse` (or :func:`load`) once;
+everything below receives a :class:`Settings` (or the part of it it needs), never the raw dict.
+Files the config names (the body YAML of a physics model) are read here, once.
+
+Each model's section is parsed by the model's own plug-in (:mod:`morphlearn.models`), so adding a
+model adds no field here: ``settings.models[name]``.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from dataclasses import asdict, dataclass
+from functools import cached_property
+from pathlib import Path
+from types import MappingProxyType
+from typing import Any
+
+import numpy as np
+
+from morphlearn import config as cfgmod
+from morphlearn.grid import DesignGrid
+
+
+@dataclass(frozen=True)
+class GridSettings:
+    """``grid``: sensor positions per axis per sensor, and theory weights per synapse."""
+
+    positions_per_axis: int
+    weights: int
+
+    @cached_property
+    def designs(self) -> DesignGrid:
+        """The design grid, built once (frozen dataclasses allow cached_property)."""
+        return DesignGrid(self.positions_per_axis)
+
+
+@dataclass(frozen=True)
+class SweepSettings:
+    """``sweep``: how the theory sweep is sharded and run (not part of its science)."""
+
+    shards: int
+    mirror_symmetry: bool
+    threads: int
+
+
+@dataclass(frozen=True)
+class AnalysisSettings:
+    """``analysis``: thresholds applied to stored results (None: the simulated ones) and the top-N."""
+
+    horizon: float | None
+    success_radius: float | None
+    top: int
+
+
+@dataclass(frozen=True)
+class FigureSettings:
+    """``figures``: whether figures are drawn, and the options notebooks take from the config."""
+
+    enabled: bool
+    near_distance: float
+    persistence_controllers: int
+    fig2_design: Any
+    fig2_envs: tuple[int, ...]
+
+    def option(self, name: str) -> Any:
+        """A figure option by its config key (registry ``options``), as the notebook receives it."""
+        v = getattr(self, name)
+        return list(v) if isinstance(v, tuple) else v
+
+
+@dataclass(frozen=True)
+class LearnerSettings:
+    """``learners``: real learners on the theory model (config_schema.yaml)."""
+
+    enabled: bool
+    learners: tuple[str, ...]
+    protocols: tuple[str, ...]
+    seeds: int
+    seed: int
+    budget: int
+    cycles: int
+    per_phase: int
+    sigma0: float
+    max_designs: int | None
+    shards: int
+    threads: int
+    chunk: int
+    bootstrap: int
+
+    def science(self) -> dict[str, Any]:
+        """What determines a design's learner numbers (not sharding, threads, batching, bootstrap)."""
+        keep = ("learners", "protocols", "seeds", "seed", "budget", "cycles", "per_phase", "sigma0")
+        return {k: list(v) if isinstance(v, tuple) else v for k, v in asdict(self).items() if k in keep}
+
+
+@dataclass(frozen=True)
+class Settings:
+    """The whole validated config, typed. ``source`` is the validated mapping itself (read-only),
+    kept for what works on configs as data: scenario overrides (deep merges) and digests."""
+
+    source: Mapping[str, Any]
+    results_dir: str
+    design_cache: bool
+    grid: GridSettings
+    sweep: SweepSettings
+    analysis: AnalysisSettings
+    figures: FigureSettings
+    learners: LearnerSettings
+    #: model name -> that model's parsed section (the model plug-in's own settings type)
+    models: Mapping[str, Any]
+    bundle_dir: str | None
+    scenarios: str | list[str] | None
+    scenario_file: str
+    render_only: bool
+
+    def weights(self, model: str) -> np.ndarray:
+        """The weight values per synapse of a model's sweep."""
+        from morphlearn.grid import weights
+
+        return weights(self.models[model].weights)
+
+
+def _section(cls: type, sec: Mapping[str, Any]) -> Any:
+    """A dataclass from a config section: lists become tuples (frozen, hashable)."""
+    return cls(**{k: tuple(sec[k]) if isinstance(sec[k], list) else sec[k] for k in cls.__dataclass_fields__})
+
+
+def parse(cfg: Mapping[str, Any]) -> Settings:
+    """Validate ``cfg`` (defaults filled, cross-checks) and parse it into :class:`Settings`.
+    Raises :class:`morphlearn.config.ConfigError` with a one-line message."""
+    from morphlearn import models
+
+    v = cfgmod.validate(dict(cfg))
+    grid = _section(GridSettings, v["grid"])
+    learners = _section(LearnerSettings, v["learners"])
+    if learners.enabled:
+        g = grid.designs
+        n_run = min(len(g.representatives()), learners.max_designs or g.size)
+        if learners.shards > n_run:
+            raise cfgmod.ConfigError(f"learners.shards = {learners.shards} exceeds the {n_run} designs the "
+                                     f"learners run; allowed: 1..{n_run}")  # fmt: skip
+    return Settings(
+        source=MappingProxyType(v),
+        results_dir=v["results_dir"],
+        design_cache=bool(v["design_cache"]),
+        grid=grid,
+        sweep=_section(SweepSettings, v["sweep"]),
+        analysis=_section(AnalysisSettings, v["analysis"]),
+        figures=_section(FigureSettings, v["figures"]),
+        learners=learners,
+        models=MappingProxyType({name: m.parse(v, grid) for name, m in models.MODELS.items()}),
+        bundle_dir=v["bundle_dir"],
+        scenarios=v["scenarios"],
+        scenario_file=v["scenario_file"],
+        render_only=bool(v["render_only"]),
+    )
+
+
+def load(path: str | Path, overrides: list[str | Path] = ()) -> Settings:
+    """Read a YAML config (deep-merging override files, as ``--configfile`` does) and parse it."""
+    return parse(cfgmod.read(path, overrides))

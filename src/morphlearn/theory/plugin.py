@@ -1,0 +1,159 @@
+"""The theory model as a plug-in of the model registry (:mod:`morphlearn.models`)."""
+
+from __future__ import annotations
+
+import argparse
+import math
+import os
+import platform
+from collections.abc import Mapping
+from dataclasses import dataclass
+from types import MappingProxyType
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+from morphlearn.config import ConfigError
+from morphlearn.model_interface import Done, Model, Resources
+from morphlearn.theory import TheoryParams
+
+if TYPE_CHECKING:
+    from morphlearn.metrics import Thresholds
+    from morphlearn.results import DesignResult
+    from morphlearn.settings import GridSettings, Settings
+
+#: The CLI's defaults where it is not given (the paper-matching settings, DESIGN.md section 2).
+CLI_HORIZON = 500.0
+CLI_R = 4.0
+CLI_RADIUS = 0.2
+#: Most fixed RK4 steps per trajectory the CLI takes (10^7: tens of seconds per trajectory).
+MAX_RK4_STEPS = 10_000_000
+
+
+@dataclass(frozen=True)
+class TheorySettings:
+    """The ``theory`` section with the ``sweep`` and ``grid`` values the theory sweep uses."""
+
+    enabled: bool
+    params: TheoryParams
+    weights: int
+    shards: int
+    threads: int
+    mirror_symmetry: bool
+    designs: tuple[int, ...]  # simulated: one of each mirror pair with mirror_symmetry
+    science: Mapping[str, Any]
+
+
+class Theory(Model):
+    name = "theory"
+    env_file = "envs/theory.yaml"
+    cli_options = ("r", "horizon", "dt")
+
+    def parse(self, cfg: Mapping[str, Any], grid: GridSettings) -> TheorySettings:
+        th, sw = cfg["theory"], cfg["sweep"]
+        keys = ["r", "horizon", "success_radius", "integrator", "max_steps"]
+        keys += ["rtol", "atol"] if th["integrator"] == "dp5" else ["dt"]
+        science = {
+            "model": self.name,
+            "grid": dict(cfg["grid"]),
+            "theory": {k: th[k] for k in keys},
+            "mirror_symmetry": sw["mirror_symmetry"],
+        }
+        g = grid.designs
+        designs = g.representatives() if sw["mirror_symmetry"] else np.arange(g.size)
+        if sw["shards"] > len(designs):
+            raise ConfigError(f"sweep.shards = {sw['shards']} exceeds the {len(designs)} designs evaluated; "
+                              f"allowed: 1..{len(designs)}")  # fmt: skip
+        return TheorySettings(
+            enabled=bool(th["enabled"]),
+            params=TheoryParams.from_config(th),
+            weights=grid.weights,
+            shards=sw["shards"],
+            threads=sw["threads"],
+            mirror_symmetry=bool(sw["mirror_symmetry"]),
+            designs=tuple(int(d) for d in designs),
+            science=MappingProxyType(science),
+        )
+
+    def designs(self, s: Settings) -> np.ndarray:
+        return np.array(self.settings(s).designs, dtype=np.int64)
+
+    def science(self, s: Settings) -> dict[str, Any]:
+        import copy
+
+        return copy.deepcopy(dict(self.settings(s).science))
+
+    def mirror_derived(self, s: Settings) -> bool:
+        return self.settings(s).mirror_symmetry
+
+    def thresholds(self, s: Settings) -> Thresholds:
+        from morphlearn.metrics import Thresholds
+
+        p, a = self.settings(s).params, s.analysis
+        return Thresholds(
+            horizon=a.horizon if a.horizon is not None else p.horizon,
+            radius=a.success_radius if a.success_radius is not None else p.success_radius,
+            sim_horizon=p.horizon,
+            sim_radius=p.success_radius,
+        )
+
+    def evaluate(self, s: Settings, designs: np.ndarray, done: Done | None = None) -> list[DesignResult]:
+        from morphlearn.theory import evaluate
+
+        return evaluate(s.grid.designs.coords(designs), self.weights(s), self.settings(s).params,
+                        progress=True, done=done)  # fmt: skip
+
+    def backend(self, s: Settings) -> dict[str, str]:
+        """CPU and CUDA may differ in boundary cases, so the merge records and compares them."""
+        from morphlearn.theory import resolve_backend
+
+        b = resolve_backend(self.settings(s).params.backend)
+        if b == "cuda":
+            try:
+                from numba import cuda
+
+                name = cuda.get_current_device().name
+                device = name.decode() if isinstance(name, bytes) else str(name)
+            except Exception as e:  # the name is a record, not a requirement
+                device = f"cuda (name unavailable: {type(e).__name__})"
+        else:
+            device = f"cpu ({platform.machine()}, {os.cpu_count()} cores)"
+        return {"backend": b, "device": device}
+
+    def resources(self, s: Settings) -> Resources:
+        # backend cuda: one GPU per shard job (the SLURM plugin submits --gpus=1; add gpu_model or
+        # a GPU partition with --set-resources, docs/cluster.md). auto asks for none.
+        t = self.settings(s)
+        return Resources(threads=t.threads, runtime=60, mem_mb=2000, gpu=1 if t.params.backend == "cuda" else 0)
+
+    def positions_of(self, science: Mapping[str, Any]) -> int:
+        return int(science["grid"]["positions_per_axis"])
+
+    def describe(self, science: Mapping[str, Any], n_designs: int, m: int) -> str:
+        g, th = science.get("grid", {}), science.get("theory", {})
+        tol = (f"rtol = atol = {th.get('rtol')}" if th.get("integrator") == "dp5" else f"dt = {th.get('dt')}")
+        return (f"grid {g.get('positions_per_axis')} positions per axis per sensor, {g.get('weights')} "
+                f"weights per synapse; r = {th.get('r')}, T = {th.get('horizon')}, success radius "
+                f"{th.get('success_radius')}, integrator {th.get('integrator')} ({tol}), step cap "
+                f"{th.get('max_steps')}, mirror symmetry {science.get('mirror_symmetry')}")  # fmt: skip
+
+    def evaluate_one(self, l1: tuple[float, float], l2: tuple[float, float], w: np.ndarray,
+                     a: argparse.Namespace) -> DesignResult:  # fmt: skip
+        from morphlearn.cli import UsageError
+        from morphlearn.theory import evaluate
+
+        horizon = a.horizon if a.horizon is not None else CLI_HORIZON
+        # RK4 takes horizon / dt steps: the step cap (meant for the adaptive integrator) follows.
+        steps = TheoryParams.max_steps if a.dt is None else max(TheoryParams.max_steps, math.ceil(horizon / a.dt))
+        if steps > MAX_RK4_STEPS:
+            raise UsageError(f"--dt {a.dt} needs {steps} RK4 steps per trajectory over the horizon {horizon}; "
+                             f"allowed: --dt >= {horizon / MAX_RK4_STEPS:g}")  # fmt: skip
+        p = TheoryParams(
+            r=a.r if a.r is not None else CLI_R,
+            horizon=horizon,
+            success_radius=CLI_RADIUS,
+            integrator="rk4" if a.dt is not None else "dp5",
+            dt=a.dt if a.dt is not None else 0.01,
+            max_steps=steps,
+        )
+        return evaluate(np.array([[*l1, *l2]]), w, p, progress=not a.json)[0]

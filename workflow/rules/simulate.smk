@@ -1,0 +1,57 @@
+# The sweeps: one job per shard of designs, for every registered model this config simulates
+# (rule <model>_shard); a model whose results come from a committed bundle (<model>.results_from)
+# gets <model>_from_bundle instead, which checks and copies them.
+
+
+for _m in SIMULATED:
+
+    rule:
+        name:
+            f"{_m}_shard"
+        input:
+            **models.get(_m).inputs(S),
+        output:
+            f"{R}/{_m}/shards/shard_{{shard}}.nc",
+        log:
+            f"{R}/logs/{_m}/shard_{{shard}}.log",
+        benchmark:
+            f"{R}/benchmarks/{_m}/shard_{{shard}}.tsv"
+        wildcard_constraints:
+            shard=r"\d+",
+        conda:
+            f"../../{models.get(_m).env_file}"
+        threads: models.get(_m).resources(S).threads
+        resources:
+            runtime=models.get(_m).resources(S).runtime,
+            mem_mb=models.get(_m).resources(S).mem_mb,
+            # a model on a GPU asks for one per shard job (docs/cluster.md)
+            gpu=models.get(_m).resources(S).gpu,
+        params:
+            model=_m,
+            key=shard_params(_m),
+        script:
+            "../scripts/shard.py"
+
+
+for _m in (m for m in MODELS if models.get(m).results_from(S) is not None):
+
+    rule:
+        name:
+            f"{_m}_from_bundle"
+        input:
+            f"{models.get(_m).results_from(S)}/bundle.json",
+        output:
+            metrics=f"{R}/{_m}/metrics.csv",
+            provenance=f"{R}/{_m}/metrics.provenance.json",
+            merged=directory(f"{R}/{_m}/merged.zarr"),
+        log:
+            f"{R}/logs/{_m}/from_bundle.log",
+        benchmark:
+            f"{R}/benchmarks/{_m}/from_bundle.tsv"
+        localrule: True
+        conda:
+            "../../envs/analysis.yaml"
+        params:
+            model=_m,
+        script:
+            "../scripts/from_bundle.py"
