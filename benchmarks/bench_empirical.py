@@ -142,13 +142,19 @@ def levers(params: EmpiricalParams, pairs: int, m: int, survey: dict) -> None:
     opt = SweepOptions.from_config(survey)
     derive = bool(survey.get("mirror_derive"))
     # name -> (options, one design of each pair simulated and the other derived?)
-    ways = {"current": (SweepOptions(), False), "early stop": (SweepOptions(early_stop=True), False),
-            "survey": (opt, derive), f"near {DEFAULT_NEAR:g}": (replace(opt, near=DEFAULT_NEAR), derive)}  # fmt: skip
+    ways = {
+        "current": (SweepOptions(), False),
+        "early stop": (SweepOptions(early_stop=True), False),
+        "survey": (opt, derive),
+        f"near {DEFAULT_NEAR:g}": (replace(opt, near=DEFAULT_NEAR), derive),
+    }
     cpu = dict.fromkeys(ways, 0.0)
     found = dict.fromkeys(ways, 0)
     designs = pair_designs(pairs)
-    print(f"{len(designs)} mirror pairs ({2 * len(designs)} designs) x {cells} episodes, {m} x {m} weights, "
-          f"{params.steps} steps of dt {params.dt}, one core")  # fmt: skip
+    print(
+        f"{len(designs)} mirror pairs ({2 * len(designs)} designs) x {cells} episodes, {m} x {m} weights, "
+        f"{params.steps} steps of dt {params.dt}, one core"
+    )
     for pair in designs:
         for name, (options, derived) in ways.items():
             for d in pair[:1] if derived else pair:
@@ -161,8 +167,10 @@ def levers(params: EmpiricalParams, pairs: int, m: int, survey: dict) -> None:
     n = 2 * len(designs) * cells
     for name in ways:
         per = cpu[name] / (2 * len(designs))
-        print(f"{name:>10}: {per:7.1f} core-s per design, {n / cpu[name]:6.2f} episodes/core-s, "
-              f"{cpu['current'] / cpu[name]:5.2f}x the current loop; successes {found[name]}")  # fmt: skip
+        print(
+            f"{name:>10}: {per:7.1f} core-s per design, {n / cpu[name]:6.2f} episodes/core-s, "
+            f"{cpu['current'] / cpu[name]:5.2f}x the current loop; successes {found[name]}"
+        )
 
 
 def main() -> None:

@@ -47,11 +47,28 @@ def make_store(d: Path, n: int) -> Path:
             ft[rng.random((4, M, M)) < 0.7] = np.nan
             res.append(DesignResult(ft, rng.uniform(0, 4, (4, M, M)).astype(np.float32), np.zeros((4, M, M))))
         paths.append(d / f"s{i}.nc")
-        store.write_shard(paths[-1], model="theory", grid=G, weights=grid.weights(M), designs=part,
-                          results=res, science={"b": 1}, provenance={})  # fmt: skip
+        store.write_shard(
+            paths[-1],
+            model="theory",
+            grid=G,
+            weights=grid.weights(M),
+            designs=part,
+            results=res,
+            science={"b": 1},
+            provenance={},
+        )
     out = d / "merged.zarr"
-    store.merge_shards(paths, out, model="theory", grid=G, weights=grid.weights(M), shard_designs=parts,
-                       science={"b": 1}, mirror=False, provenance={})  # fmt: skip
+    store.merge_shards(
+        paths,
+        out,
+        model="theory",
+        grid=G,
+        weights=grid.weights(M),
+        shard_designs=parts,
+        science={"b": 1},
+        mirror=False,
+        provenance={},
+    )
     return out
 
 
@@ -65,11 +82,15 @@ def metrics_before(path: Path) -> None:
         stt = part["status"].values
         for i in range(succ.shape[0]):
             dm = metrics.design_metrics(succ[i], stt[i])
-            row = {"model": "theory", "design": int(part["design"].values[i]),
-                   **{c: float(part[c].values[i]) for c in ("l1x", "l1y", "l2x", "l2y")}}  # fmt: skip
+            row = {
+                "model": "theory",
+                "design": int(part["design"].values[i]),
+                **{c: float(part[c].values[i]) for c in ("l1x", "l1y", "l2x", "l2y")},
+            }
             row.update({f"n_{ang}": c for ang, c in zip(grid.ENV_ANGLES_DEG, dm.per_env, strict=True)})
-            row.update(generalists=dm.generalists, at_least_one=dm.at_least_one, M_L=dm.M_L,
-                       M_CF=dm.M_CF, flagged=dm.flagged)  # fmt: skip
+            row.update(
+                generalists=dm.generalists, at_least_one=dm.at_least_one, M_L=dm.M_L, M_CF=dm.M_CF, flagged=dm.flagged
+            )
             rows.append(row)
     pd.DataFrame(rows)
 
@@ -111,9 +132,14 @@ def main() -> None:
     with tempfile.TemporaryDirectory(dir=a.dir) as tmp:
         path = make_store(Path(tmp), a.designs)
         print(f"store: {a.designs} designs x 4 x {M} x {M}, best of {a.repeat}")
-        rows = [("metrics", lambda: metrics_before(path), lambda: metrics_after(path)),
-                ("render-only reads", lambda: render_before(path, a.figure_designs),
-                 lambda: render_after(path, a.figure_designs))]  # fmt: skip
+        rows = [
+            ("metrics", lambda: metrics_before(path), lambda: metrics_after(path)),
+            (
+                "render-only reads",
+                lambda: render_before(path, a.figure_designs),
+                lambda: render_after(path, a.figure_designs),
+            ),
+        ]
         for name, before, after in rows:
             b, c = best(before, a.repeat), best(after, a.repeat)
             print(f"{name:18s} before {b:7.3f} s  after {c:7.3f} s  ({100 * (c - b) / b:+.1f} %, {c - b:+.3f} s)")

@@ -40,8 +40,16 @@ def write_shards(d: Path, n_designs: int, n_shards: int) -> list[np.ndarray]:
             ft = rng.uniform(0, 500, (4, M, M))
             ft[rng.random((4, M, M)) < 0.8] = np.nan
             res.append(DesignResult(ft, rng.uniform(0, 4, (4, M, M)), np.zeros((4, M, M), dtype=np.int8)))
-        store.write_shard(d / f"shard_{i}.nc", model="theory", grid=G, weights=grid.weights(M),
-                          designs=designs, results=res, science=SCIENCE, provenance={})  # fmt: skip
+        store.write_shard(
+            d / f"shard_{i}.nc",
+            model="theory",
+            grid=G,
+            weights=grid.weights(M),
+            designs=designs,
+            results=res,
+            science=SCIENCE,
+            provenance={},
+        )
     return parts
 
 
@@ -50,9 +58,17 @@ def merge_child(d: str, n_shards: int, n_designs: int) -> None:
     reps = G.representatives()[:n_designs]
     parts = grid.split_shards(reps, n_shards)
     t0 = time.perf_counter()
-    store.merge_shards([Path(d) / f"shard_{i}.nc" for i in range(n_shards)], Path(d) / "merged.zarr",
-                       model="theory", grid=G, weights=grid.weights(M), shard_designs=parts,
-                       science=SCIENCE, mirror=False, provenance={})  # fmt: skip
+    store.merge_shards(
+        [Path(d) / f"shard_{i}.nc" for i in range(n_shards)],
+        Path(d) / "merged.zarr",
+        model="theory",
+        grid=G,
+        weights=grid.weights(M),
+        shard_designs=parts,
+        science=SCIENCE,
+        mirror=False,
+        provenance={},
+    )
     peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
     print(json.dumps({"peak_mib": peak, "wall_s": time.perf_counter() - t0}))
 
@@ -64,8 +80,10 @@ def main() -> None:
     ap.add_argument("--dir", default=None, help="scratch folder (default: a temporary one)")
     a = ap.parse_args()
     per_design = 4 * M * M * (8 + 8 + 1)
-    print(f"# 121 x 121 weights: {per_design / 2**20:.2f} MiB of outcomes per design; "
-          f"{a.per_shard} designs per shard; peak RSS of a fresh merging process")
+    print(
+        f"# 121 x 121 weights: {per_design / 2**20:.2f} MiB of outcomes per design; "
+        f"{a.per_shard} designs per shard; peak RSS of a fresh merging process"
+    )
     rows = []
     with tempfile.TemporaryDirectory(dir=a.dir) as tmp:
         for n in a.designs:
@@ -73,17 +91,25 @@ def main() -> None:
             d.mkdir()
             shards = -(-n // a.per_shard)
             write_shards(d, n, shards)
-            out = subprocess.run([sys.executable, __file__, "--child", str(d), str(shards), str(n)],
-                                 capture_output=True, text=True, check=True).stdout  # fmt: skip
+            out = subprocess.run(
+                [sys.executable, __file__, "--child", str(d), str(shards), str(n)],
+                capture_output=True,
+                text=True,
+                check=True,
+            ).stdout
             r = json.loads(out.strip().splitlines()[-1])
             rows.append((n, r["peak_mib"]))
-            print(f"{n:5d} designs ({n * per_design / 2**30:5.2f} GiB of outcomes): peak RSS "
-                  f"{r['peak_mib']:7.1f} MiB, merge {r['wall_s']:.1f} s")  # fmt: skip
+            print(
+                f"{n:5d} designs ({n * per_design / 2**30:5.2f} GiB of outcomes): peak RSS "
+                f"{r['peak_mib']:7.1f} MiB, merge {r['wall_s']:.1f} s"
+            )
     (n0, p0), (n1, p1) = rows[0], rows[-1]
     slope = (p1 - p0) / (n1 - n0)
     print(f"slope: {slope:.3f} MiB per design (in-memory merge would need {per_design / 2**20:.2f})")
-    print(f"estimated peak for config/full.yaml (3321 designs evaluated): {p1 + slope * (3321 - n1):.0f} MiB "
-          f"(holding all outcomes would need {3321 * per_design / 2**30:.1f} GiB)")
+    print(
+        f"estimated peak for config/full.yaml (3321 designs evaluated): {p1 + slope * (3321 - n1):.0f} MiB "
+        f"(holding all outcomes would need {3321 * per_design / 2**30:.1f} GiB)"
+    )
 
 
 if __name__ == "__main__":

@@ -32,21 +32,36 @@ def main() -> None:
     g = DesignGrid(a.positions)
     designs = g.coords(np.arange(g.size))
     t0 = time.perf_counter()
-    ft, _, st, n = cpu.sweep(designs, weights(a.weights), env_starts(p.r), radius=p.success_radius,
-                             horizon=p.horizon, method=p.method, rtol=p.rtol, atol=p.atol, dt=p.dt,
-                             max_steps=a.reference_cap)  # fmt: skip
+    ft, _, st, n = cpu.sweep(
+        designs,
+        weights(a.weights),
+        env_starts(p.r),
+        radius=p.success_radius,
+        horizon=p.horizon,
+        method=p.method,
+        rtol=p.rtol,
+        atol=p.atol,
+        dt=p.dt,
+        max_steps=a.reference_cap,
+    )
     wall = time.perf_counter() - t0
     succ = np.isfinite(ft)
     fail = ~succ & (st == 0)  # failures that reached the horizon
-    print(f"{len(designs)} designs x {a.weights}^2 weights x 4 lights = {succ.size:,} trajectories, "
-          f"cap {a.reference_cap:,}: {wall:.1f} s wall")  # fmt: skip
-    print(f"successes {succ.sum():,}: steps max {n[succ].max():,}, median {np.median(n[succ]):.0f}; "
-          f"at the cap {(st == 2).sum():,}")  # fmt: skip
+    print(
+        f"{len(designs)} designs x {a.weights}^2 weights x 4 lights = {succ.size:,} trajectories, "
+        f"cap {a.reference_cap:,}: {wall:.1f} s wall"
+    )
+    print(
+        f"successes {succ.sum():,}: steps max {n[succ].max():,}, median {np.median(n[succ]):.0f}; "
+        f"at the cap {(st == 2).sum():,}"
+    )
     total = n.sum()
     print("cap      steps kept  successes lost  horizon failures ending at the cap")
     for cap in sorted(a.caps):
-        print(f"{cap:>7,}  {np.minimum(n, cap).sum() / total:>9.1%}  {(succ & (n > cap)).sum():>14,}"
-              f"  {(fail & (n > cap)).sum():>10,}")  # fmt: skip
+        print(
+            f"{cap:>7,}  {np.minimum(n, cap).sum() / total:>9.1%}  {(succ & (n > cap)).sum():>14,}"
+            f"  {(fail & (n > cap)).sum():>10,}"
+        )
 
 
 if __name__ == "__main__":

@@ -32,8 +32,15 @@ CONFIGS = [("dp5 1e-8", TheoryParams()), ("rk4 dt=0.01", TheoryParams(integrator
 
 
 def _kw(p: TheoryParams) -> dict:
-    return dict(radius=p.success_radius, horizon=p.horizon, method=p.method, rtol=p.rtol, atol=p.atol,
-                dt=p.dt, max_steps=p.max_steps)  # fmt: skip
+    return dict(
+        radius=p.success_radius,
+        horizon=p.horizon,
+        method=p.method,
+        rtol=p.rtol,
+        atol=p.atol,
+        dt=p.dt,
+        max_steps=p.max_steps,
+    )
 
 
 def _timed(f: Callable[[], tuple]) -> tuple[tuple, float, float]:
@@ -48,8 +55,10 @@ def _compare(a: tuple, b: tuple) -> str:
     both = sa & sb
     dt = float(np.max(np.abs(a[0][both] - b[0][both]))) if both.any() else 0.0
     dd = float(np.max(np.abs(a[1] - b[1])))
-    return (f"{int((sa != sb).sum())} success flags differ, {int((a[2] != b[2]).sum())} statuses differ, "
-            f"max |dfirst_time| {dt:.2e}, max |dmin_dist| {dd:.2e}")  # fmt: skip
+    return (
+        f"{int((sa != sb).sum())} success flags differ, {int((a[2] != b[2]).sum())} statuses differ, "
+        f"max |dfirst_time| {dt:.2e}, max |dmin_dist| {dd:.2e}"
+    )
 
 
 def main() -> None:
@@ -69,8 +78,10 @@ def main() -> None:
     starts = grid.env_starts(4.0)
     n_traj = len(designs) * 4 * len(w) ** 2
     print(f"# machine: {platform.processor() or platform.machine()}, float64, {a.threads} CPU thread(s)")
-    print(f"# sample: {len(designs)} random designs of the 9^4 grid (seed {a.seed}) x 4 envs x "
-          f"{len(w)}^2 weights = {n_traj} trajectories, T = 500, r = 4")  # fmt: skip
+    print(
+        f"# sample: {len(designs)} random designs of the 9^4 grid (seed {a.seed}) x 4 envs x "
+        f"{len(w)}^2 weights = {n_traj} trajectories, T = 500, r = 4"
+    )
 
     rates: dict[str, float] = {}
     cpu_out: dict[str, tuple] = {}
@@ -79,8 +90,10 @@ def main() -> None:
         out, wall, cput = _timed(lambda p=p: cpu.sweep(designs, w, starts, **_kw(p)))
         cpu_out[name] = out
         rates[name] = n_traj / cput
-        print(f"CPU {name:12s}: {rates[name]:9.0f} trajectories/s/core (mean {out[3].mean():.0f} steps "
-              f"per trajectory; {cput:.1f} CPU-s, {wall:.1f} s wall)")  # fmt: skip
+        print(
+            f"CPU {name:12s}: {rates[name]:9.0f} trajectories/s/core (mean {out[3].mean():.0f} steps "
+            f"per trajectory; {cput:.1f} CPU-s, {wall:.1f} s wall)"
+        )
 
     c0 = time.process_time()
     for _ in range(a.reference):
@@ -91,8 +104,10 @@ def main() -> None:
     for name, r in rates.items():
         print(f"speed-up of CPU {name} over scipy reference: {r / ref:.0f}x per core")
     for name, r in rates.items():
-        print(f"full sweep estimate, CPU {name}: {FULL / r / 3600:.1f} core-hours "
-              f"({FULL / 2 / r / 3600:.1f} with mirror symmetry); sample-dependent")  # fmt: skip
+        print(
+            f"full sweep estimate, CPU {name}: {FULL / r / 3600:.1f} core-hours "
+            f"({FULL / 2 / r / 3600:.1f} with mirror symmetry); sample-dependent"
+        )
 
     if not gpu.available():
         print("# GPU: skipped (numba.cuda.is_available() is False: no CUDA GPU visible)")
@@ -102,18 +117,22 @@ def main() -> None:
         gpu.sweep(designs[:1], w[:2], starts, **_kw(p))  # compile outside the timing
         out, wall, _ = _timed(lambda p=p: gpu.sweep(designs, w, starts, **_kw(p)))
         r = n_traj / wall
-        print(f"GPU {name:12s}: {r:9.0f} trajectories/s ({wall:.2f} s wall); "
-              f"{r / rates[name]:.0f}x one CPU core, {r / ref:.0f}x scipy; vs CPU: "
-              f"{_compare(out, cpu_out[name])}")  # fmt: skip
+        print(
+            f"GPU {name:12s}: {r:9.0f} trajectories/s ({wall:.2f} s wall); "
+            f"{r / rates[name]:.0f}x one CPU core, {r / ref:.0f}x scipy; vs CPU: "
+            f"{_compare(out, cpu_out[name])}"
+        )
     if a.gpu_designs:
         big = g.coords(rng.choice(g.size, a.gpu_designs, replace=False))
         w121 = grid.weights(121)
         n_big = len(big) * 4 * 121**2
         for name, p in CONFIGS:
             _, wall, _ = _timed(lambda p=p: gpu.sweep(big, w121, starts, **_kw(p)))
-            print(f"GPU {name:12s} on {len(big)} designs x 121^2 ({n_big} trajectories): {wall:.1f} s; "
-                  f"full sweep estimate {FULL / n_big * wall:.0f} s "
-                  f"({FULL / 2 / n_big * wall:.0f} s with mirror symmetry)")  # fmt: skip
+            print(
+                f"GPU {name:12s} on {len(big)} designs x 121^2 ({n_big} trajectories): {wall:.1f} s; "
+                f"full sweep estimate {FULL / n_big * wall:.0f} s "
+                f"({FULL / 2 / n_big * wall:.0f} s with mirror symmetry)"
+            )
 
 
 if __name__ == "__main__":

@@ -52,17 +52,23 @@ def main() -> None:
             cf_ad.append(g.M_CF)
     ml_full, ml_ad, cf_full, cf_ad = map(np.array, (ml_full, ml_ad, cf_full, cf_ad))
     m = ds.sizes["w1"] // a.every + (1 if ds.sizes["w1"] % a.every else 0)
-    print(f"{a.merged}: {len(ml_full)} designs, {m} x {m} weights (every {a.every}), stride {a.stride}, "
-          f"near {a.near} x radius {radius}")  # fmt: skip
+    print(
+        f"{a.merged}: {len(ml_full)} designs, {m} x {m} weights (every {a.every}), stride {a.stride}, "
+        f"near {a.near} x radius {radius}"
+    )
     print(f"cells simulated: {sim:,} of {cells:,} ({sim / cells:.1%})")
     print(f"successes missed: {missed:,} of {succ_n:,} ({missed / max(succ_n, 1):.3%})")
     changed = ml_full != ml_ad
-    print(f"designs whose M_L changes: {int(changed.sum())} of {len(ml_full)}; largest |dM_L| "
-          f"{np.abs(ml_full - ml_ad).max():.4g}; whose M_CF changes: {int((cf_full != cf_ad).sum())}, "
-          f"largest |dM_CF| {np.abs(cf_full - cf_ad).max():.4g}")  # fmt: skip
-    print(f"Spearman(M_L exhaustive, M_L adaptive) = {stats.spearmanr(ml_full, ml_ad).statistic:.6f}; "
-          f"M_CF: {stats.spearmanr(cf_full, cf_ad).statistic:.6f}; best design by M_L unchanged: "
-          f"{int(np.argmax(ml_full)) == int(np.argmax(ml_ad))}")  # fmt: skip
+    print(
+        f"designs whose M_L changes: {int(changed.sum())} of {len(ml_full)}; largest |dM_L| "
+        f"{np.abs(ml_full - ml_ad).max():.4g}; whose M_CF changes: {int((cf_full != cf_ad).sum())}, "
+        f"largest |dM_CF| {np.abs(cf_full - cf_ad).max():.4g}"
+    )
+    print(
+        f"Spearman(M_L exhaustive, M_L adaptive) = {stats.spearmanr(ml_full, ml_ad).statistic:.6f}; "
+        f"M_CF: {stats.spearmanr(cf_full, cf_ad).statistic:.6f}; best design by M_L unchanged: "
+        f"{int(np.argmax(ml_full)) == int(np.argmax(ml_ad))}"
+    )
 
 
 if __name__ == "__main__":

@@ -121,8 +121,18 @@ def report(a: argparse.Namespace) -> None:
         steps_ad += int(es_steps[mask].sum())
         ad_missed += int(missed.sum())
         ad_sim += int(mask.sum())
-        rows.append((d, int(succ.sum()), int(flip.sum()), int(missed.sum()), int(mask.sum()),
-                     int(steps.sum()), int(es_steps.sum()), float(r["cpu"])))  # fmt: skip
+        rows.append(
+            (
+                d,
+                int(succ.sum()),
+                int(flip.sum()),
+                int(missed.sum()),
+                int(mask.sum()),
+                int(steps.sum()),
+                int(es_steps.sum()),
+                float(r["cpu"]),
+            )
+        )
     mir_flips = mir_eps = mir_pairs = 0
     for d in data:
         md = int(g.mirror(d))
@@ -133,22 +143,38 @@ def report(a: argparse.Namespace) -> None:
             mir_eps += a_s.size
             mir_pairs += 1
     cpu = sum(r[-1] for r in rows)
-    print(f"designs {len(data)}; episodes {n_ep:,}; successes {n_succ:,}; CPU {cpu:,.0f} s "
-          f"({n_ep / cpu:.2f} episodes/core-s, current loop)")  # fmt: skip
-    print(f"early stop (margin {MARGIN}): success flips {es_flips} of {n_succ} successes "
-          f"({n_ep:,} episodes); physics steps {steps_es:,} of {steps_all:,} "
-          f"({1 - steps_es / steps_all:.1%} saved)")  # fmt: skip
-    print(f"adaptive weights (stride {a.stride}, near {a.near}): episodes simulated {ad_sim:,} of {n_ep:,} "
-          f"({ad_sim / n_ep:.1%}); successes missed {ad_missed} of {n_succ} "
-          f"({ad_missed / max(n_succ, 1):.2%}); steps with early stop {steps_ad:,} "
-          f"({steps_ad / steps_all:.1%} of the current loop's)")  # fmt: skip
-    print(f"mirror derivation: {mir_flips} success flips in {mir_eps:,} episodes of {mir_pairs} pairs "
-          f"({mir_flips / max(mir_eps, 1):.3%})")  # fmt: skip
+    print(
+        f"designs {len(data)}; episodes {n_ep:,}; successes {n_succ:,}; CPU {cpu:,.0f} s "
+        f"({n_ep / cpu:.2f} episodes/core-s, current loop)"
+    )
+    print(
+        f"early stop (margin {MARGIN}): success flips {es_flips} of {n_succ} successes "
+        f"({n_ep:,} episodes); physics steps {steps_es:,} of {steps_all:,} "
+        f"({1 - steps_es / steps_all:.1%} saved)"
+    )
+    print(
+        f"adaptive weights (stride {a.stride}, near {a.near}): episodes simulated {ad_sim:,} of {n_ep:,} "
+        f"({ad_sim / n_ep:.1%}); successes missed {ad_missed} of {n_succ} "
+        f"({ad_missed / max(n_succ, 1):.2%}); steps with early stop {steps_ad:,} "
+        f"({steps_ad / steps_all:.1%} of the current loop's)"
+    )
+    print(
+        f"mirror derivation: {mir_flips} success flips in {mir_eps:,} episodes of {mir_pairs} pairs "
+        f"({mir_flips / max(mir_eps, 1):.3%})"
+    )
     if a.csv:
         import pandas as pd
 
-        cols = ["design", "successes", "early_stop_flips", "adaptive_missed", "adaptive_simulated",
-                "steps_full", "steps_early_stop", "cpu_s"]  # fmt: skip
+        cols = [
+            "design",
+            "successes",
+            "early_stop_flips",
+            "adaptive_missed",
+            "adaptive_simulated",
+            "steps_full",
+            "steps_early_stop",
+            "cpu_s",
+        ]
         pd.DataFrame(rows, columns=cols).to_csv(a.csv, index=False, float_format="%.6g")
 
 
@@ -159,8 +185,11 @@ def main() -> None:
     r.add_argument("out")
     r.add_argument("--pairs", type=int, default=21)
     r.add_argument("--seed", type=int, default=0)
-    r.add_argument("--designs", type=lambda v: [int(x) for x in v.split(",")],
-                   help="comma-separated design indices instead of the seeded sample")  # fmt: skip
+    r.add_argument(
+        "--designs",
+        type=lambda v: [int(x) for x in v.split(",")],
+        help="comma-separated design indices instead of the seeded sample",
+    )
     r.add_argument("--jobs", type=int, default=2)
     r.add_argument("--weights", type=int, default=11)
     r.add_argument("--morphology", default="config/empirical_morphology.yaml")

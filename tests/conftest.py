@@ -12,8 +12,17 @@ from pathlib import Path
 import pytest
 
 ROOT = Path(__file__).resolve().parents[1]
-WORKFLOW_FILES = ("Snakefile", "config.yaml", "config", "workflow", "src", "envs", "notebooks",
-                  "profiles", "results/survey")  # fmt: skip
+WORKFLOW_FILES = (
+    "Snakefile",
+    "config.yaml",
+    "config",
+    "workflow",
+    "src",
+    "envs",
+    "notebooks",
+    "profiles",
+    "results/survey",
+)
 
 
 def copy_workflow(dest: Path) -> Path:
@@ -36,17 +45,12 @@ def written_results(workdir: Path) -> list[Path]:
     return sorted(p for p in root.iterdir() if p.name not in kept) if root.exists() else []
 
 
-def snakemake(
-    workdir: Path, *args: str, timeout: int = 900, check: bool = True
-) -> subprocess.CompletedProcess:
+def snakemake(workdir: Path, *args: str, timeout: int = 900, check: bool = True) -> subprocess.CompletedProcess:
     exe = Path(sys.executable).with_name("snakemake")
     env = dict(os.environ, MORPHLEARN_GIT_COMMIT="test")
-    proc = subprocess.run([str(exe), *args], cwd=workdir, capture_output=True, text=True,
-                          timeout=timeout, env=env)  # fmt: skip
+    proc = subprocess.run([str(exe), *args], cwd=workdir, capture_output=True, text=True, timeout=timeout, env=env)
     if check and proc.returncode != 0:
-        raise AssertionError(
-            f"snakemake {' '.join(args)} failed:\n{proc.stdout[-3000:]}\n{proc.stderr[-3000:]}"
-        )
+        raise AssertionError(f"snakemake {' '.join(args)} failed:\n{proc.stdout[-3000:]}\n{proc.stderr[-3000:]}")
     return proc
 
 

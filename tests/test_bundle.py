@@ -19,8 +19,16 @@ from morphlearn import grid as gridmod
 @pytest.fixture(scope="module")
 def smoke_bundle(smoke_run: Path) -> Path:
     """The bundle of the shared smoke run, made by the workflow's own rule."""
-    snakemake(smoke_run, "bundle", "--cores", "1", "--configfile", "config/smoke.yaml", "--config",
-              "bundle_dir=results/bundle")  # fmt: skip
+    snakemake(
+        smoke_run,
+        "bundle",
+        "--cores",
+        "1",
+        "--configfile",
+        "config/smoke.yaml",
+        "--config",
+        "bundle_dir=results/bundle",
+    )
     return smoke_run / "results" / "bundle"
 
 
@@ -100,8 +108,18 @@ def test_render_from_bundle_alone(smoke_bundle: Path, tmp_path: Path) -> None:
     wd = copy_workflow(tmp_path / "clone")
     out = wd / "results" / "paper"
     shutil.copytree(smoke_bundle, out)
-    proc = snakemake(wd, "--cores", "2", "--configfile", "config/smoke.yaml", "--config",
-                     "render_only=True", "results_dir=results/paper", "--forceall", timeout=600)  # fmt: skip
+    proc = snakemake(
+        wd,
+        "--cores",
+        "2",
+        "--configfile",
+        "config/smoke.yaml",
+        "--config",
+        "render_only=True",
+        "results_dir=results/paper",
+        "--forceall",
+        timeout=600,
+    )
     jobs = job_stats(proc.stdout + proc.stderr)
     assert set(jobs) == {*(f"figure_fig{i}" for i in range(1, 8)), "reproduction", "all"}, jobs
     for i in range(1, 8):

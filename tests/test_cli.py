@@ -9,8 +9,7 @@ from morphlearn.cli import main
 
 
 def test_design_json_has_exactly_the_documented_keys(capsys: pytest.CaptureFixture) -> None:
-    assert main(["design", "--l1", "0.5", "0.5", "--l2", "0.5", "-0.5", "--weights", "5",
-                 "--json"]) == 0  # fmt: skip
+    assert main(["design", "--l1", "0.5", "0.5", "--l2", "0.5", "-0.5", "--weights", "5", "--json"]) == 0
     out = json.loads(capsys.readouterr().out)
     assert set(out) == {"per_env", "generalists", "at_least_one", "M_L", "M_CF", "flagged"}
     assert len(out["per_env"]) == 4 and all(isinstance(x, int) for x in out["per_env"])
@@ -29,8 +28,7 @@ def test_design_json_has_exactly_the_documented_keys(capsys: pytest.CaptureFixtu
     ],
 )
 def test_bad_arguments_exit_2_with_one_line(args: list[str], msg: str) -> None:
-    proc = subprocess.run([sys.executable, "-m", "morphlearn.cli", "design", *args],
-                          capture_output=True, text=True)  # fmt: skip
+    proc = subprocess.run([sys.executable, "-m", "morphlearn.cli", "design", *args], capture_output=True, text=True)
     assert proc.returncode == 2
     assert msg in proc.stderr and proc.stderr.count("\n") == 1
     assert proc.stdout == ""
@@ -39,10 +37,27 @@ def test_bad_arguments_exit_2_with_one_line(args: list[str], msg: str) -> None:
 def test_empirical_design_json_is_clean_stdout() -> None:
     # pybullet prints a banner from C at import; stdout must still be exactly one JSON object.
     proc = subprocess.run(
-        [sys.executable, "-m", "morphlearn.cli", "design", "--model", "empirical",
-         "--l1", "0.5", "0.5", "--l2", "0.5", "-0.5", "--weights", "2", "--json"],
-        capture_output=True, text=True, cwd=ROOT,
-    )  # fmt: skip
+        [
+            sys.executable,
+            "-m",
+            "morphlearn.cli",
+            "design",
+            "--model",
+            "empirical",
+            "--l1",
+            "0.5",
+            "0.5",
+            "--l2",
+            "0.5",
+            "-0.5",
+            "--weights",
+            "2",
+            "--json",
+        ],
+        capture_output=True,
+        text=True,
+        cwd=ROOT,
+    )
     assert proc.returncode == 0, proc.stderr
     out = json.loads(proc.stdout)
     assert set(out) == {"per_env", "generalists", "at_least_one", "M_L", "M_CF", "flagged"}
@@ -51,8 +66,24 @@ def test_empirical_design_json_is_clean_stdout() -> None:
 
 def test_missing_morphology_file() -> None:
     proc = subprocess.run(
-        [sys.executable, "-m", "morphlearn.cli", "design", "--model", "empirical", "--l1", "0.5", "0.5",
-         "--l2", "0.5", "-0.5", "--morphology", "nope.yaml"],
-        capture_output=True, text=True, cwd=ROOT,
-    )  # fmt: skip
+        [
+            sys.executable,
+            "-m",
+            "morphlearn.cli",
+            "design",
+            "--model",
+            "empirical",
+            "--l1",
+            "0.5",
+            "0.5",
+            "--l2",
+            "0.5",
+            "-0.5",
+            "--morphology",
+            "nope.yaml",
+        ],
+        capture_output=True,
+        text=True,
+        cwd=ROOT,
+    )
     assert proc.returncode == 2 and "--morphology nope.yaml: no such file" in proc.stderr

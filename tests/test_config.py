@@ -61,8 +61,9 @@ def test_malformed_yaml(tmp_path: Path) -> None:
 )
 def test_workflow_refuses_bad_config_and_writes_nothing(tmp_path: Path, override: dict, needle: str) -> None:
     wd = copy_workflow(tmp_path / "wf")
-    (wd / "bad.yaml").write_text(yaml.safe_dump(config.deep_merge(yaml.safe_load(
-        (ROOT / "config/smoke.yaml").read_text()), override)))  # fmt: skip
+    (wd / "bad.yaml").write_text(
+        yaml.safe_dump(config.deep_merge(yaml.safe_load((ROOT / "config/smoke.yaml").read_text()), override))
+    )
     proc = snakemake(wd, "--cores", "1", "--configfile", "bad.yaml", check=False)
     assert proc.returncode == 2, proc.stderr[-2000:]
     assert needle in proc.stderr

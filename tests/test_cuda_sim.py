@@ -58,25 +58,35 @@ SCRIPT = textwrap.dedent(
 
 
 def _kw(p: TheoryParams) -> dict:
-    return dict(radius=p.success_radius, horizon=p.horizon, method=p.method, rtol=p.rtol, atol=p.atol,
-                dt=p.dt, max_steps=p.max_steps)  # fmt: skip
+    return dict(
+        radius=p.success_radius,
+        horizon=p.horizon,
+        method=p.method,
+        rtol=p.rtol,
+        atol=p.atol,
+        dt=p.dt,
+        max_steps=p.max_steps,
+    )
 
 
 @pytest.fixture(scope="module")
 def simulated(tmp_path_factory: pytest.TempPathFactory) -> tuple[Path, dict]:
     tmp = tmp_path_factory.mktemp("cudasim")
-    args = {"designs": DESIGNS.tolist(), "weights": WEIGHTS.tolist(),
-            "cases": {name: dataclasses.asdict(p) for name, p in CASES}}  # fmt: skip
+    args = {
+        "designs": DESIGNS.tolist(),
+        "weights": WEIGHTS.tolist(),
+        "cases": {name: dataclasses.asdict(p) for name, p in CASES},
+    }
     env = dict(os.environ, NUMBA_ENABLE_CUDASIM="1")
-    r = subprocess.run([sys.executable, "-c", SCRIPT, json.dumps(args), str(tmp)], env=env,
-                       capture_output=True, text=True, timeout=600)  # fmt: skip
+    r = subprocess.run(
+        [sys.executable, "-c", SCRIPT, json.dumps(args), str(tmp)], env=env, capture_output=True, text=True, timeout=600
+    )
     assert r.returncode == 0, r.stderr[-4000:]
     return tmp, json.loads(r.stdout.strip().splitlines()[-1])
 
 
 @pytest.mark.parametrize("name,p", CASES, ids=[c[0] for c in CASES])
-def test_cuda_kernel_matches_cpu_kernel_in_simulator(simulated: tuple[Path, dict], name: str,
-                                                     p: TheoryParams) -> None:  # fmt: skip
+def test_cuda_kernel_matches_cpu_kernel_in_simulator(simulated: tuple[Path, dict], name: str, p: TheoryParams) -> None:
     tmp, _ = simulated
     g = np.load(tmp / f"{name}.npz")
     c = cpu.sweep(DESIGNS, WEIGHTS, grid.env_starts(p.r), **_kw(p))
@@ -134,10 +144,22 @@ def test_backend_comes_from_config_but_not_the_science_digest() -> None:
     from morphlearn.settings import GridSettings
     from morphlearn.theory.plugin import Theory
 
-    th = {"r": 4.0, "horizon": 500.0, "success_radius": 0.2, "integrator": "dp5", "rtol": 1e-8,
-          "atol": 1e-8, "dt": 0.01, "max_steps": 100000, "backend": "auto"}  # fmt: skip
+    th = {
+        "r": 4.0,
+        "horizon": 500.0,
+        "success_radius": 0.2,
+        "integrator": "dp5",
+        "rtol": 1e-8,
+        "atol": 1e-8,
+        "dt": 0.01,
+        "max_steps": 100000,
+        "backend": "auto",
+    }
     assert TheoryParams.from_config(th).backend == "auto"
-    cfg = {"grid": {"positions_per_axis": 9, "weights": 121}, "theory": {**th, "enabled": True},
-           "sweep": {"mirror_symmetry": True, "shards": 1, "threads": 1}}  # fmt: skip
+    cfg = {
+        "grid": {"positions_per_axis": 9, "weights": 121},
+        "theory": {**th, "enabled": True},
+        "sweep": {"mirror_symmetry": True, "shards": 1, "threads": 1},
+    }
     parsed = Theory().parse(cfg, GridSettings(9, 121))
     assert parsed.params.backend == "auto" and "backend" not in json.dumps(dict(parsed.science))

@@ -63,8 +63,9 @@ def test_reshard_recomputes_nothing_and_merges_the_same_bytes(tmp_path: Path) ->
     merged = _data(wd)
 
     # Other shard counts, with Snakemake's metadata (params changed) ...
-    (wd / "b.yaml").write_text(yaml.safe_dump(config.deep_merge(
-        RESHARD, {"sweep": {"shards": 2}, "empirical": {"shards": 3}})))  # fmt: skip
+    (wd / "b.yaml").write_text(
+        yaml.safe_dump(config.deep_merge(RESHARD, {"sweep": {"shards": 2}, "empirical": {"shards": 3}}))
+    )
     proc = snakemake(wd, *MERGED, "--cores", "2", "--configfile", "config/smoke.yaml", "b.yaml")
     assert job_stats(proc.stdout + proc.stderr)["theory_shard"] == 2
     assert _computed(wd) == {"theory": 0, "empirical": 0}
@@ -73,14 +74,19 @@ def test_reshard_recomputes_nothing_and_merges_the_same_bytes(tmp_path: Path) ->
     # ... and without it (results copied elsewhere): one clear line at start instead of a merge
     # refusal later; with the stale shards deleted, nothing is recomputed either.
     shutil.rmtree(wd / ".snakemake")
-    (wd / "c.yaml").write_text(yaml.safe_dump(config.deep_merge(
-        RESHARD, {"sweep": {"shards": 4}, "empirical": {"shards": 2}})))  # fmt: skip
+    (wd / "c.yaml").write_text(
+        yaml.safe_dump(config.deep_merge(RESHARD, {"sweep": {"shards": 4}, "empirical": {"shards": 2}}))
+    )
     args = [*MERGED, "--cores", "2", "--configfile", "config/smoke.yaml", "c.yaml"]
     proc = snakemake(wd, *args, check=False)
     assert proc.returncode == 2, proc.stderr[-2000:]
     assert "results/theory/merged.zarr was made by another science config or shard count" not in proc.stderr
-    assert re.search(r"^morphlearn: results/theory/shards/shard_\d+\.nc was made by another science "
-                     r"config or shard count and Snakemake has no record", proc.stderr, re.M), proc.stderr
+    assert re.search(
+        r"^morphlearn: results/theory/shards/shard_\d+\.nc was made by another science "
+        r"config or shard count and Snakemake has no record",
+        proc.stderr,
+        re.M,
+    ), proc.stderr
     for model in ("theory", "empirical"):  # what the message says to do
         shutil.rmtree(wd / f"results/{model}/shards")
         shutil.rmtree(wd / f"results/{model}/merged.zarr")
@@ -95,14 +101,13 @@ def test_reshard_recomputes_nothing_and_merges_the_same_bytes(tmp_path: Path) ->
     proc = snakemake(wd, "-n", "--cores", "1", "--configfile", "config/full.yaml")
     stats = job_stats(proc.stdout + proc.stderr)
     assert (stats["theory_shard"], stats["empirical_shard"]) == (24, 6561), stats
-    proc = snakemake(wd, "-n", "--cores", "1", "--configfile", "config/full.yaml", "--config",
-                     "results_dir=results", check=False)  # fmt: skip
+    proc = snakemake(
+        wd, "-n", "--cores", "1", "--configfile", "config/full.yaml", "--config", "results_dir=results", check=False
+    )
     assert proc.returncode == 2 and "has no record of it" in proc.stderr, proc.stderr[-2000:]
 
 
-def test_killed_shard_resumes_and_damaged_designs_are_recomputed(
-    tmp_path: Path, capsys: pytest.CaptureFixture
-) -> None:
+def test_killed_shard_resumes_and_damaged_designs_are_recomputed(tmp_path: Path, capsys: pytest.CaptureFixture) -> None:
     # 9 shards of the 45 smoke designs: 5 in shard 0 (seconds)
     s = settings.parse(config.deep_merge(SMOKE, {"results_dir": str(tmp_path / "results"), "sweep": {"shards": 9}}))
     theory = models.get("theory")

@@ -80,9 +80,7 @@ def test_mirror_symmetry_on_a_coarse_grid(params: EmpiricalParams) -> None:
 
 def test_evaluate_design_shapes_and_progress(params: EmpiricalParams) -> None:
     calls: list[tuple[int, int]] = []
-    res = evaluate_design(
-        *canonical_design(), np.array([0.0, 1.0]), params, lambda d, t: calls.append((d, t))
-    )
+    res = evaluate_design(*canonical_design(), np.array([0.0, 1.0]), params, lambda d, t: calls.append((d, t)))
     assert res.first_time.shape == res.min_dist.shape == res.status.shape == (4, 2, 2)
     assert calls[-1] == (16, 16) and len(calls) == 16
     assert np.all(np.isnan(res.first_time[:, 0, 0]))  # w = 0: the robot never moves
@@ -177,9 +175,16 @@ def test_mirror_derive_simulates_one_of_each_pair(tmp_path: Path) -> None:
 
     root = Path(__file__).resolve().parents[1]
     cfg = cfgmod.load(root / "config.yaml", [root / "config/smoke.yaml"])
-    cfg = cfgmod.validate(cfgmod.deep_merge(cfg, {
-        "results_dir": str(tmp_path), "grid": {"positions_per_axis": 5},
-        "empirical": {"designs": [[[-0.5, -0.25], [0.5, 0.25]]], "mirror_derive": True}}))  # fmt: skip
+    cfg = cfgmod.validate(
+        cfgmod.deep_merge(
+            cfg,
+            {
+                "results_dir": str(tmp_path),
+                "grid": {"positions_per_axis": 5},
+                "empirical": {"designs": [[[-0.5, -0.25], [0.5, 0.25]]], "mirror_derive": True},
+            },
+        )
+    )
     g = DesignGrid(5)
     d = g.index_of((-0.5, -0.25), (0.5, 0.25))
     pair = sorted({d, int(g.mirror(d))})

@@ -45,23 +45,29 @@ def test_every_rule_names_an_existing_env() -> None:
 # order: each run finds the previous runs' outputs. test_every_conda_rule_is_run checks coverage.
 SMOKE_STEPS = {
     "theory": (["theory_shard"], [f"results/theory/shards/shard_{i}.nc" for i in range(3)]),
-    "empirical": (["empirical_shard", "optimise_morphology"],
-                  ["results/empirical/shards/shard_0.nc", "results/morphology/pareto.csv"]),
+    "empirical": (
+        ["empirical_shard", "optimise_morphology"],
+        ["results/empirical/shards/shard_0.nc", "results/morphology/pareto.csv"],
+    ),
     "analysis": (["merge", "metrics", "summary"], ["results/summary.md"]),
     "learners": (["learners_shard", "learners_analysis"], ["results/learners/summary.md"]),
     # Every notebook, the reproduction table and the results bundle (which holds all of them).
-    "figures": ([*(f"figure_fig{i}" for i in range(1, 8)), "figure_learners", "reproduction", "bundle"],
-                ["results/bundle"]),
-}  # fmt: skip
+    "figures": (
+        [*(f"figure_fig{i}" for i in range(1, 8)), "figure_learners", "reproduction", "bundle"],
+        ["results/bundle"],
+    ),
+}
 CONFIGS = ("config/smoke.yaml", "tiny_optimise.yaml", "tiny_learners.yaml")
 # The scenario rules (workflow/rules/scenarios.smk), on a base and a shorter-horizon scenario of the
 # smoke config: env -> (rules, --until rules; the run's targets are the scenario workflow's own).
 SCENARIO_STEPS = {
     "theory": (["scenario_shard"], ["scenario_shard"]),
-    "analysis": (["scenario_merge", "scenario_metrics", "scenario_summary", "scenario_compare"],
-                 ["scenario_summary", "scenario_compare"]),
+    "analysis": (
+        ["scenario_merge", "scenario_metrics", "scenario_summary", "scenario_compare"],
+        ["scenario_summary", "scenario_compare"],
+    ),
     "figures": (["scenario_report"], ["scenario_report"]),
-}  # fmt: skip
+}
 SCENARIOS = ("--config", "scenario_file=s.yaml", "scenarios=all")
 # A run that reads the empirical results of the bundle the figures step made (empirical.results_from).
 READER_STEP = ("analysis", ["empirical_from_bundle"], ["results/reader/empirical/metrics.csv"])
@@ -73,9 +79,21 @@ def build_env(name: str, dest: Path) -> Path:
     pins = make_envs.lock()
     uv = Path(sys.executable).with_name("uv")
     subprocess.run([str(uv), "venv", "-q", "--python", sys.executable, str(dest)], check=True)
-    subprocess.run([str(uv), "pip", "install", "-q", "--python", str(dest / "bin/python"),
-                    "-c", str(ROOT / "requirements.lock"), *pip, f"snakemake=={pins['snakemake']}"],
-                   check=True)  # fmt: skip
+    subprocess.run(
+        [
+            str(uv),
+            "pip",
+            "install",
+            "-q",
+            "--python",
+            str(dest / "bin/python"),
+            "-c",
+            str(ROOT / "requirements.lock"),
+            *pip,
+            f"snakemake=={pins['snakemake']}",
+        ],
+        check=True,
+    )
     return dest / "bin/python"
 
 
@@ -96,19 +114,24 @@ def test_each_env_runs_its_rules(tmp_path: Path) -> None:
 
     wd = copy_workflow(tmp_path / "wd")
     # optimise_morphology with one NSGA-II population (20 evaluations: seconds, not minutes)
-    (wd / "tiny_optimise.yaml").write_text(
-        "empirical:\n  optimise:\n    evaluations: 20\nbundle_dir: results/bundle\n")
+    (wd / "tiny_optimise.yaml").write_text("empirical:\n  optimise:\n    evaluations: 20\nbundle_dir: results/bundle\n")
     (wd / "tiny_learners.yaml").write_text(  # the learner stage, seconds (tests/test_learners_workflow.py)
         "learners: {enabled: true, seeds: 2, budget: 4, cycles: 1, per_phase: 4, max_designs: 3, shards: 1, "
-        "threads: 1, bootstrap: 100}\n")
+        "threads: 1, bootstrap: 100}\n"
+    )
     (wd / "s.yaml").write_text("base: {}\nshort:\n  theory:\n    horizon: 200.0\n")
     pythons = {env: build_env(env, tmp_path / "envs" / env) for env in SMOKE_STEPS}
 
     def run(env: str, *args: str, configs: tuple[str, ...] = CONFIGS) -> dict[str, int]:
         # args before --configfile, which takes every following word as a config file
-        proc = subprocess.run([str(pythons[env]), "-m", "snakemake", *args, "--cores", "2", "--configfile",
-                               *configs], cwd=wd, capture_output=True, text=True, timeout=900,
-                              env=dict(os.environ, MORPHLEARN_GIT_COMMIT="test"))  # fmt: skip
+        proc = subprocess.run(
+            [str(pythons[env]), "-m", "snakemake", *args, "--cores", "2", "--configfile", *configs],
+            cwd=wd,
+            capture_output=True,
+            text=True,
+            timeout=900,
+            env=dict(os.environ, MORPHLEARN_GIT_COMMIT="test"),
+        )
         logs = "\n".join(p.read_text()[-1500:] for p in sorted((wd / "results").rglob("logs/**/*.log")))
         assert proc.returncode == 0, f"envs/{env}.yaml {args}:\n{proc.stderr[-3000:]}\n{logs}"
         return job_stats(proc.stdout + proc.stderr)
@@ -148,7 +171,6 @@ def test_parsing_and_planning_import_no_pybullet_or_pymoo(tmp_path: Path) -> Non
     from conftest import copy_workflow
 
     wd = copy_workflow(tmp_path / "wd")
-    proc = subprocess.run([sys.executable, "-c", PARSE_AND_PLAN], cwd=wd, capture_output=True, text=True,
-                          timeout=300)  # fmt: skip
+    proc = subprocess.run([sys.executable, "-c", PARSE_AND_PLAN], cwd=wd, capture_output=True, text=True, timeout=300)
     assert proc.returncode == 0, proc.stderr[-3000:]
     assert proc.stdout.strip().splitlines()[-1] == "[]", proc.stdout[-2000:]

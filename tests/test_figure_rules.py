@@ -125,10 +125,23 @@ def _notebook(source: str) -> str:
     for chunk in source.split("# %%")[1:]:
         head, _, body = chunk.partition("\n")
         tags = ["parameters"] if head.strip() == "parameters" else []
-        cells.append({"cell_type": "code", "execution_count": None, "metadata": {"tags": tags}, "outputs": [],
-                      "source": body.splitlines(keepends=True)})  # fmt: skip
-    return json.dumps({"cells": cells, "metadata": {"kernelspec": {"name": "python3", "display_name": "Python 3",
-                       "language": "python"}}, "nbformat": 4, "nbformat_minor": 4})  # fmt: skip
+        cells.append(
+            {
+                "cell_type": "code",
+                "execution_count": None,
+                "metadata": {"tags": tags},
+                "outputs": [],
+                "source": body.splitlines(keepends=True),
+            }
+        )
+    return json.dumps(
+        {
+            "cells": cells,
+            "metadata": {"kernelspec": {"name": "python3", "display_name": "Python 3", "language": "python"}},
+            "nbformat": 4,
+            "nbformat_minor": 4,
+        }
+    )
 
 
 def test_adding_a_figure_takes_a_notebook_and_one_registry_line(smoke_run: Path, tmp_path: Path) -> None:
@@ -172,8 +185,9 @@ def test_reviewer_rerenders_from_stored_results_only(smoke_run: Path, tmp_path: 
             shutil.copy2(smoke_run / "results" / model / name, dst / name)
         shutil.copytree(smoke_run / "results" / model / "merged.zarr", dst / "merged.zarr")
     t0 = time.perf_counter()
-    proc = snakemake(wd, "--cores", "2", "--configfile", "config/smoke.yaml", "--config", "render_only=True",
-                     "--forceall")  # fmt: skip
+    proc = snakemake(
+        wd, "--cores", "2", "--configfile", "config/smoke.yaml", "--config", "render_only=True", "--forceall"
+    )
     wall = time.perf_counter() - t0
     stats = job_stats(proc.stdout + proc.stderr)
     print(f"re-rendered {sum(v for k, v in stats.items() if k.startswith('figure_'))} figures in {wall:.0f} s")
@@ -185,8 +199,9 @@ def test_reviewer_rerenders_from_stored_results_only(smoke_run: Path, tmp_path: 
             smoke_run / f"results/figures/{fig}.png"
         ).read_bytes(), fig
     # and the report of that run
-    snakemake(wd, "--configfile", "config/smoke.yaml", "--config", "render_only=True", "--report",
-              "results/report.html")  # fmt: skip
+    snakemake(
+        wd, "--configfile", "config/smoke.yaml", "--config", "render_only=True", "--report", "results/report.html"
+    )
     html = (wd / "results/report.html").read_text()
     assert "Overlapped binary success matrices" in html and "Reproduction" in html
 
@@ -194,8 +209,15 @@ def test_reviewer_rerenders_from_stored_results_only(smoke_run: Path, tmp_path: 
 def test_report_of_the_main_run(smoke_run: Path) -> None:
     snakemake(smoke_run, "--configfile", "config/smoke.yaml", "--report", "results/report.html")
     html = (smoke_run / "results/report.html").read_text()
-    for title in ("Modelling the robot", "Overlapped binary success", "The best designs", "canonical design",
-                  "best design by M_L", "Measuring learnability", "Distributions of M_L"):  # fmt: skip
+    for title in (
+        "Modelling the robot",
+        "Overlapped binary success",
+        "The best designs",
+        "canonical design",
+        "best design by M_L",
+        "Measuring learnability",
+        "Distributions of M_L",
+    ):
         assert title in html, title
     assert "Provenance" in html and "metrics.provenance.json" in html
 

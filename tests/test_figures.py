@@ -39,16 +39,47 @@ def synthetic(designs=DESIGNS, generalists=(2, 0)) -> data.ModelResults:
     results = [DesignResult(ft[k], np.zeros((4, 3, 3)), np.zeros((4, 3, 3))) for k in order]
     tmp = Path(tempfile.mkdtemp(prefix="synthetic-"))
     sci = {"model": "theory", "grid": {"positions_per_axis": 5, "weights": 3}}
-    store.write_shard(tmp / "s.nc", model="theory", grid=g5, weights=W, designs=idx[order], results=results,
-                      science=sci, provenance={})  # fmt: skip
-    store.merge_shards([tmp / "s.nc"], tmp / "merged.zarr", model="theory", grid=g5, weights=W,
-                       shard_designs=[idx[order]], science=sci, mirror=False, provenance={})  # fmt: skip
+    store.write_shard(
+        tmp / "s.nc",
+        model="theory",
+        grid=g5,
+        weights=W,
+        designs=idx[order],
+        results=results,
+        science=sci,
+        provenance={},
+    )
+    store.merge_shards(
+        [tmp / "s.nc"],
+        tmp / "merged.zarr",
+        model="theory",
+        grid=g5,
+        weights=W,
+        shard_designs=[idx[order]],
+        science=sci,
+        mirror=False,
+        provenance={},
+    )
     c = np.array([[*a, *b] for a, b in designs])
-    table = pd.DataFrame({"design": idx, "l1x": c[:, 0], "l1y": c[:, 1], "l2x": c[:, 2], "l2y": c[:, 3],
-                          "generalists": list(generalists), "M_L": [g / 9 for g in generalists],
-                          "M_CF": [g / 9 for g in generalists]})  # fmt: skip
-    return data.ModelResults("theory", table, store.open_merged(tmp / "merged.zarr"), None,
-                             {"metrics": "m.csv", "merged": str(tmp / "merged.zarr")})  # fmt: skip
+    table = pd.DataFrame(
+        {
+            "design": idx,
+            "l1x": c[:, 0],
+            "l1y": c[:, 1],
+            "l2x": c[:, 2],
+            "l2y": c[:, 3],
+            "generalists": list(generalists),
+            "M_L": [g / 9 for g in generalists],
+            "M_CF": [g / 9 for g in generalists],
+        }
+    )
+    return data.ModelResults(
+        "theory",
+        table,
+        store.open_merged(tmp / "merged.zarr"),
+        None,
+        {"metrics": "m.csv", "merged": str(tmp / "merged.zarr")},
+    )
 
 
 # ---------------------------------------------------------------------------------------------- data
@@ -63,8 +94,9 @@ def test_overlap_and_best_of_synthetic_results() -> None:
 
 def test_a_design_missing_from_the_dataset_is_an_error_naming_it() -> None:
     res = synthetic()
-    res = data.ModelResults(res.model, res.table, res.ds.sel(design=[int(res.table.design[1])]), None,
-                           res.paths)  # a dataset holding only the second design
+    res = data.ModelResults(
+        res.model, res.table, res.ds.sel(design=[int(res.table.design[1])]), None, res.paths
+    )  # a dataset holding only the second design
     assert res.find(*DESIGNS[0]) is None
     missing = r"l1 = \(0.5, 0.5\), l2 = \(0.5, -0.5\) is not in \S*merged.zarr \(1 designs\); Fig. 9"
     with pytest.raises(ValueError, match=missing):
@@ -187,17 +219,32 @@ def test_notebook_modules_follow_imports_transitively(tmp_path: Path) -> None:
     _write(pkg / "figures/draw/c.py", "import numpy\n")
     _write(pkg / "figures/draw/unused.py", "")
     _write(pkg / "grid.py", "")
-    nb = {"cells": [
-        {"cell_type": "markdown", "source": ["import morphlearn.figures.draw.unused"]},
-        {"cell_type": "code", "source": ["%matplotlib inline\n", "from morphlearn.figures.draw import a\n",
-                                         "from morphlearn import grid\n", "import pandas"]},
-    ]}  # fmt: skip
+    nb = {
+        "cells": [
+            {"cell_type": "markdown", "source": ["import morphlearn.figures.draw.unused"]},
+            {
+                "cell_type": "code",
+                "source": [
+                    "%matplotlib inline\n",
+                    "from morphlearn.figures.draw import a\n",
+                    "from morphlearn import grid\n",
+                    "import pandas",
+                ],
+            },
+        ]
+    }
     _write(tmp_path / "fig9.ipynb", json.dumps(nb))
     got = registry.notebook_modules(tmp_path / "fig9.ipynb", src)
     rel = sorted(str(Path(p).relative_to(src)) for p in got)
-    assert rel == ["morphlearn/__init__.py", "morphlearn/figures/__init__.py", "morphlearn/figures/draw/__init__.py",
-                   "morphlearn/figures/draw/a.py", "morphlearn/figures/draw/b.py", "morphlearn/figures/draw/c.py",
-                   "morphlearn/grid.py"]  # fmt: skip
+    assert rel == [
+        "morphlearn/__init__.py",
+        "morphlearn/figures/__init__.py",
+        "morphlearn/figures/draw/__init__.py",
+        "morphlearn/figures/draw/a.py",
+        "morphlearn/figures/draw/b.py",
+        "morphlearn/figures/draw/c.py",
+        "morphlearn/grid.py",
+    ]
 
 
 def _parameters(nb: Path) -> set[str]:

@@ -25,16 +25,29 @@ def test_theory_shard_submission_requests_gpu_only_for_cuda(
     wd = copy_workflow(tmp_path / "wd")
     fakes = tmp_path / "bin"
     fakes.mkdir()
-    for name, text in (("sbatch", FAKE_SBATCH), ("sacctmgr", FAKE_SACCTMGR), ("sinfo", FAKE_SINFO),
-                       ("squeue", "#!/bin/sh\n")):
+    for name, text in (
+        ("sbatch", FAKE_SBATCH),
+        ("sacctmgr", FAKE_SACCTMGR),
+        ("sinfo", FAKE_SINFO),
+        ("squeue", "#!/bin/sh\n"),
+    ):
         (fakes / name).write_text(text)
         (fakes / name).chmod(0o755)
     record = tmp_path / "sbatch_args.txt"
     monkeypatch.setenv("PATH", f"{fakes}{os.pathsep}{os.environ['PATH']}")
     monkeypatch.setenv("SBATCH_RECORD", str(record))
     monkeypatch.setenv("MORPHLEARN_SLURM_ACCOUNT", "acct")
-    proc = snakemake(wd, "results/theory/shards/shard_0.nc", "--profile", "profiles/slurm", "--configfile",
-                     "config/smoke.yaml", "--config", f"theory={{'backend': '{backend}'}}", check=False)  # fmt: skip
+    proc = snakemake(
+        wd,
+        "results/theory/shards/shard_0.nc",
+        "--profile",
+        "profiles/slurm",
+        "--configfile",
+        "config/smoke.yaml",
+        "--config",
+        f"theory={{'backend': '{backend}'}}",
+        check=False,
+    )
     assert proc.returncode != 0  # the fake sbatch refused: nothing ran
     assert record.exists(), proc.stderr[-3000:]
     args = shlex.split(record.read_text().splitlines()[0])

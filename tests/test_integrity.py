@@ -24,8 +24,17 @@ TH = metrics.Thresholds(500.0, 0.2, 500.0, 0.2)
 
 
 def _merge(paths: list[Path], out: Path, provenance: dict | None = None) -> None:
-    store.merge_shards(paths, out, model="theory", grid=G, weights=W, shard_designs=SHARD_DESIGNS,
-                       science=SCIENCE, mirror=True, provenance=provenance or {})  # fmt: skip
+    store.merge_shards(
+        paths,
+        out,
+        model="theory",
+        grid=G,
+        weights=W,
+        shard_designs=SHARD_DESIGNS,
+        science=SCIENCE,
+        mirror=True,
+        provenance=provenance or {},
+    )
 
 
 @pytest.fixture
@@ -69,8 +78,11 @@ def test_damaged_chunk_stops_metrics_by_name_before_anything_is_written(
     assert msg.startswith(f"{merged}: min_dist of design {design} (position {pos}): ") and "\n" not in msg
     assert not csv.exists() and not csv.with_suffix(".provenance.json").exists()
     # verify: the same damage is unusable input (exit 2), one line naming it.
-    proc = subprocess.run([sys.executable, "-m", "morphlearn.cli", "verify", "--merged", str(merged),
-                           "--samples", "2"], capture_output=True, text=True)  # fmt: skip
+    proc = subprocess.run(
+        [sys.executable, "-m", "morphlearn.cli", "verify", "--merged", str(merged), "--samples", "2"],
+        capture_output=True,
+        text=True,
+    )
     assert proc.returncode == 2 and f"min_dist of design {design}" in proc.stderr, proc.stderr
     assert proc.stderr.count("\n") == 1
 
@@ -123,14 +135,24 @@ def test_subset_keeps_digests_and_metrics_refuse_it(merged: Path, tmp_path: Path
 
 
 def _shard_with(path: Path, designs: np.ndarray, prov: dict, seed: int) -> None:
-    store.write_shard(path, model="theory", grid=G, weights=W, designs=designs,
-                      results=_results(designs, 5, seed), science=SCIENCE, provenance=prov)  # fmt: skip
+    store.write_shard(
+        path,
+        model="theory",
+        grid=G,
+        weights=W,
+        designs=designs,
+        results=_results(designs, 5, seed),
+        science=SCIENCE,
+        provenance=prov,
+    )
 
 
 def test_merge_records_and_warns_about_mixed_commits_and_backends(tmp_path: Path) -> None:
-    provs = [{"git_commit": "aaa"},  # made before backends were recorded: the CPU
-             {"git_commit": "aaa", "backend": "cpu", "device": "cpu (x86_64)"},
-             {"git_commit": "bbb", "backend": "cuda", "device": "NVIDIA H100"}]  # fmt: skip
+    provs = [
+        {"git_commit": "aaa"},  # made before backends were recorded: the CPU
+        {"git_commit": "aaa", "backend": "cpu", "device": "cpu (x86_64)"},
+        {"git_commit": "bbb", "backend": "cuda", "device": "NVIDIA H100"},
+    ]
     paths = [tmp_path / f"s{i}.nc" for i in range(3)]
     for i, (p, prov) in enumerate(zip(paths, provs, strict=True)):
         _shard_with(p, SHARD_DESIGNS[i], prov, i)
@@ -167,11 +189,11 @@ def test_verify_counts_lost_successes(tmp_path: Path, capsys: pytest.CaptureFixt
             md = rng.uniform(0.05, 3.0, (4, 5, 5)).astype(np.float32)
             res.append(DesignResult(np.full((4, 5, 5), np.nan), md, np.zeros((4, 5, 5))))
         paths.append(tmp_path / f"s{i}.nc")
-        store.write_shard(paths[-1], model="theory", grid=G, weights=W, designs=d, results=res,
-                          science=SCIENCE, provenance={})  # fmt: skip
+        store.write_shard(
+            paths[-1], model="theory", grid=G, weights=W, designs=d, results=res, science=SCIENCE, provenance={}
+        )
     _merge(paths, tmp_path / "m.zarr")
-    md_all = np.stack([store.read_design(store.open_merged(tmp_path / "m.zarr"), i)["min_dist"]
-                       for i in range(G.size)])  # fmt: skip
+    md_all = np.stack([store.read_design(store.open_merged(tmp_path / "m.zarr"), i)["min_dist"] for i in range(G.size)])
     lost = int((md_all < 0.2).sum())
     assert lost > 100
     rc = cli.main(["verify", "--merged", str(tmp_path / "m.zarr"), "--samples", "2", "--json"])
@@ -236,13 +258,16 @@ CONFIG_PROBES = [
     ({"results_dir": "{file}"}, "is an existing file"),
     # The body file is read when figures (Fig. 1) or the empirical model are enabled.
     ({"empirical": {"morphology": "{bad_yaml}"}, "figures": {"enabled": True}}, "malformed YAML at line"),
-    ({"empirical": {"morphology": "nowhere.yaml"}, "figures": {"enabled": True}},
-     "empirical.morphology = 'nowhere.yaml': cannot read"),
+    (
+        {"empirical": {"morphology": "nowhere.yaml"}, "figures": {"enabled": True}},
+        "empirical.morphology = 'nowhere.yaml': cannot read",
+    ),
 ]
 
 
-def test_probe_bad_inputs_refused_cleanly(tmp_path: Path, capsys: pytest.CaptureFixture,
-                                          monkeypatch: pytest.MonkeyPatch) -> None:  # fmt: skip
+def test_probe_bad_inputs_refused_cleanly(
+    tmp_path: Path, capsys: pytest.CaptureFixture, monkeypatch: pytest.MonkeyPatch
+) -> None:
     bad_yaml, not_mapping, a_file = tmp_path / "bad.yaml", tmp_path / "list.yaml", tmp_path / "afile"
     bad_yaml.write_text("mass: [1, 2\n")
     not_mapping.write_text("- 1\n")
@@ -261,8 +286,9 @@ def test_probe_bad_inputs_refused_cleanly(tmp_path: Path, capsys: pytest.Capture
         assert ok, (args, rc, err[-500:])
     base = config.deep_merge(yaml.safe_load((ROOT / "config.yaml").read_text()), REL_CONFIG)
     for patch, needle in CONFIG_PROBES:
-        patch = json.loads(json.dumps(patch, allow_nan=True).replace(*next(iter(subs.items())))
-                           .replace("{file}", str(a_file)))  # fmt: skip
+        patch = json.loads(
+            json.dumps(patch, allow_nan=True).replace(*next(iter(subs.items()))).replace("{file}", str(a_file))
+        )
         tried += 1
         with pytest.raises(config.ConfigError) as e:
             settings.parse(config.deep_merge(base, patch))

@@ -28,12 +28,34 @@ def test_points_kernel_equals_grid_kernel_on_grid_points() -> None:
     g = DesignGrid(5)
     designs = g.coords(np.array([99, 312]))
     w = weights(3)
-    ft, dm, st, _ = kernel.sweep(designs, w, env_starts(P.r), radius=P.success_radius, horizon=P.horizon,
-                                 method=P.method, rtol=P.rtol, atol=P.atol, dt=P.dt, max_steps=P.max_steps)
+    ft, dm, st, _ = kernel.sweep(
+        designs,
+        w,
+        env_starts(P.r),
+        radius=P.success_radius,
+        horizon=P.horizon,
+        method=P.method,
+        rtol=P.rtol,
+        atol=P.atol,
+        dt=P.dt,
+        max_steps=P.max_steps,
+    )
     d, e, i, j = (a.ravel() for a in np.indices(ft.shape))
-    t2, d2, s2 = kernel.points(designs, env_starts(P.r), d, e, w[i], w[j], radius=P.success_radius,
-                               horizon=P.horizon, method=P.method, rtol=P.rtol, atol=P.atol, dt=P.dt,
-                               max_steps=P.max_steps)  # fmt: skip
+    t2, d2, s2 = kernel.points(
+        designs,
+        env_starts(P.r),
+        d,
+        e,
+        w[i],
+        w[j],
+        radius=P.success_radius,
+        horizon=P.horizon,
+        method=P.method,
+        rtol=P.rtol,
+        atol=P.atol,
+        dt=P.dt,
+        max_steps=P.max_steps,
+    )
     np.testing.assert_array_equal(t2, ft.ravel())  # same compiled model: bit-identical
     np.testing.assert_array_equal(d2, dm.ravel())
     np.testing.assert_array_equal(s2, st.ravel())

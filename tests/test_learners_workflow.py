@@ -11,8 +11,10 @@ from conftest import copy_workflow, job_stats, snakemake, written_results
 
 from morphlearn.figures.reproduction import BEYOND
 
-TINY = ("learners: {enabled: true, seeds: 2, budget: 4, cycles: 1, per_phase: 4, max_designs: 3, shards: 2, "
-        "threads: 1, bootstrap: 100}\n")  # fmt: skip
+TINY = (
+    "learners: {enabled: true, seeds: 2, budget: 4, cycles: 1, per_phase: 4, max_designs: 3, shards: 2, "
+    "threads: 1, bootstrap: 100}\n"
+)
 ARGS = ("--cores", "2", "--configfile", "config/smoke.yaml", "tiny_learners.yaml")
 
 
@@ -31,7 +33,8 @@ def test_learner_stage_runs_caches_and_reports(smoke_run: Path, tmp_path: Path) 
     assert runs.p_generalist.between(0, 1).all() and runs.M_L.notna().all()
     corr = pd.read_csv(wd / "results/learners/correlations.csv")
     assert set(zip(corr.learner, corr.protocol, strict=True)) == {
-        (lr, pr) for lr in ("random", "one_plus_one", "cmaes") for pr in ("joint", "sequential")}
+        (lr, pr) for lr in ("random", "one_plus_one", "cmaes") for pr in ("joint", "sequential")
+    }
     table = pd.read_csv(wd / "results/reproduction.csv")
     beyond = table[table.key.str.startswith("learners_")]
     assert len(beyond) == 6 + 3 + 4 and (beyond.paper == BEYOND).all()  # rho M_L, rho M_CF, advantage

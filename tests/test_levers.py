@@ -71,9 +71,14 @@ def test_early_stop_changes_no_outcome(params: EmpiricalParams) -> None:
     times, and it does cut (a short horizon keeps this fast; the 20,328-episode validation is
     benchmarks/validate_levers.py)."""
     p = params.replace(steps=600)
-    cases = [((0.5, 0.5), (0.5, -0.5), 1.0, 1.0, 0), ((0.5, 0.5), (0.5, -0.5), -1.0, -0.6, 2),
-             ((-0.5, -0.25), (0.5, 0.25), 0.6, -0.8, 1), ((0.0, 0.25), (0.25, 0.0), 0.0, 0.0, 3),
-             ((-0.5, -0.25), (0.5, 0.25), -0.8, 0.6, 0), ((0.5, 0.5), (0.5, -0.5), 0.2, 0.2, 1)]  # fmt: skip
+    cases = [
+        ((0.5, 0.5), (0.5, -0.5), 1.0, 1.0, 0),
+        ((0.5, 0.5), (0.5, -0.5), -1.0, -0.6, 2),
+        ((-0.5, -0.25), (0.5, 0.25), 0.6, -0.8, 1),
+        ((0.0, 0.25), (0.25, 0.0), 0.0, 0.0, 3),
+        ((-0.5, -0.25), (0.5, 0.25), -0.8, 0.6, 0),
+        ((0.5, 0.5), (0.5, -0.5), 0.2, 0.2, 1),
+    ]
     stopped = 0
     with EpisodeRunner(p) as runner:
         for l1, l2, w1, w2, env in cases:
@@ -151,8 +156,7 @@ def test_options_enter_the_science_record_only_when_on() -> None:
         return models.get("empirical").science(settings.parse(cfg))
 
     base = cfgmod.read(ROOT / "config.yaml")
-    off = cfgmod.deep_merge(base, {"empirical": {"early_stop": False, "adaptive_weights": False,
-                                                 "results_from": None}})  # fmt: skip
+    off = cfgmod.deep_merge(base, {"empirical": {"early_stop": False, "adaptive_weights": False, "results_from": None}})
     sci_off = science(off)
     assert "early_stop" not in sci_off and "adaptive_weights" not in sci_off
     on = science(cfgmod.deep_merge(off, {"empirical": {"early_stop": True, "adaptive_weights": True}}))
@@ -171,8 +175,18 @@ def _table(values_l: np.ndarray, values_cf: np.ndarray) -> pd.DataFrame:
     n = len(values_l)
     axis = np.linspace(-0.5, 0.5, 3)
     idx = np.arange(n)
-    return pd.DataFrame({"design": idx, "l1x": axis[idx % 3], "l1y": axis[(idx // 3) % 3], "l2x": 0.5, "l2y": -0.5,
-                         "generalists": (values_l * 100).astype(int), "M_L": values_l, "M_CF": values_cf})  # fmt: skip
+    return pd.DataFrame(
+        {
+            "design": idx,
+            "l1x": axis[idx % 3],
+            "l1y": axis[(idx // 3) % 3],
+            "l2x": 0.5,
+            "l2y": -0.5,
+            "generalists": (values_l * 100).astype(int),
+            "M_L": values_l,
+            "M_CF": values_cf,
+        }
+    )
 
 
 def test_rank_agreement_and_sensor_use() -> None:

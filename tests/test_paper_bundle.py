@@ -43,8 +43,11 @@ def readme_render_command() -> list[str]:
 def test_committed_bundle_is_whole_and_small() -> None:
     b = _committed()
     assert bundle_check.check(b) == []
-    size = sum(p.stat().st_size for p in b.rglob("*") if p.is_file() and p.relative_to(b).parts[0]
-               not in ("logs", "benchmarks", ".snakemake"))  # fmt: skip
+    size = sum(
+        p.stat().st_size
+        for p in b.rglob("*")
+        if p.is_file() and p.relative_to(b).parts[0] not in ("logs", "benchmarks", ".snakemake")
+    )
     assert size <= BUDGET_BYTES, f"{size / 2**20:.1f} MiB"
     manifest = json.loads((b / bundle.MANIFEST).read_text())
     assert manifest["subsets"]["theory"]["of"] == 6561  # every design of the paper's grid

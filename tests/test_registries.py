@@ -25,8 +25,10 @@ M_ANY = metrics.Metric("M_any", lambda c: c.at_least_one / c.cells, fmt=".3f", t
 
 @pytest.fixture
 def smoke_settings(tmp_path: Path) -> settings.Settings:
-    raw = config.deep_merge(config.read(ROOT / "config.yaml", [ROOT / "config/smoke.yaml"]),
-                            {"results_dir": str(tmp_path / "results"), "sweep": {"shards": 1}})  # fmt: skip
+    raw = config.deep_merge(
+        config.read(ROOT / "config.yaml", [ROOT / "config/smoke.yaml"]),
+        {"results_dir": str(tmp_path / "results"), "sweep": {"shards": 1}},
+    )
     return settings.parse(raw)
 
 
@@ -39,9 +41,11 @@ def _theory_run(s: settings.Settings, model: str, tmp_path: Path) -> Path:
 
 
 def test_a_new_metric_is_one_registry_entry(
-    smoke_settings: settings.Settings, tmp_path: Path, monkeypatch: pytest.MonkeyPatch,
+    smoke_settings: settings.Settings,
+    tmp_path: Path,
+    monkeypatch: pytest.MonkeyPatch,
     capsys: pytest.CaptureFixture[str],
-) -> None:  # fmt: skip
+) -> None:
     monkeypatch.setitem(metrics.METRICS, "M_any", M_ANY)
     table = pd.read_csv(_theory_run(smoke_settings, "theory", tmp_path))
     # the table: a column after the paper's metrics, computed from the design's counts

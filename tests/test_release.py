@@ -13,15 +13,22 @@ import morphlearn
 
 
 def _version(env: dict[str, str]) -> str:
-    proc = subprocess.run([sys.executable, "-m", "morphlearn.cli", "--version"], capture_output=True,
-                          text=True, env=env, cwd=ROOT, check=True)  # fmt: skip
+    proc = subprocess.run(
+        [sys.executable, "-m", "morphlearn.cli", "--version"],
+        capture_output=True,
+        text=True,
+        env=env,
+        cwd=ROOT,
+        check=True,
+    )
     return proc.stdout.strip()
 
 
 def test_version_names_package_version_and_commit() -> None:
     env = {k: v for k, v in os.environ.items() if k != "MORPHLEARN_GIT_COMMIT"}
-    head = subprocess.run(["git", "rev-parse", "HEAD"], cwd=ROOT, capture_output=True, text=True,
-                          check=True).stdout.strip()  # fmt: skip
+    head = subprocess.run(
+        ["git", "rev-parse", "HEAD"], cwd=ROOT, capture_output=True, text=True, check=True
+    ).stdout.strip()
     m = re.fullmatch(r"morphlearn (\S+) \(commit ([0-9a-f]{40})(-dirty)?\)", _version(env))
     assert m and m.group(1) == morphlearn.__version__ and m.group(2) == head, _version(env)
     # Cluster nodes without the repository: the commit comes from the environment.
@@ -39,8 +46,9 @@ def test_versions_agree_and_citation_names_the_paper() -> None:
 
 
 def test_config_readme_is_current() -> None:
-    proc = subprocess.run([sys.executable, str(ROOT / "tools/config_docs.py"), "--check"],
-                          capture_output=True, text=True)  # fmt: skip
+    proc = subprocess.run(
+        [sys.executable, str(ROOT / "tools/config_docs.py"), "--check"], capture_output=True, text=True
+    )
     assert proc.returncode == 0, proc.stderr
     # and it lists every leaf key of a preset, e.g. the one this issue added to them
     assert "| `results_dir` |" in (ROOT / "config/README.md").read_text()

@@ -40,8 +40,14 @@ REL_CONFIG = {
     "figures": {"enabled": False},  # figure reruns are tested in test_figures.py
 }
 SNAKEMAKE = str(Path(sys.executable).with_name("snakemake"))
-OUTPUTS = ("theory/merged.zarr", "theory/metrics.csv", "theory/metrics.provenance.json", "summary.json",
-           "summary.md", *(f"theory/shards/shard_{i}.nc" for i in range(N_SHARDS)))  # fmt: skip
+OUTPUTS = (
+    "theory/merged.zarr",
+    "theory/metrics.csv",
+    "theory/metrics.provenance.json",
+    "summary.json",
+    "summary.md",
+    *(f"theory/shards/shard_{i}.nc" for i in range(N_SHARDS)),
+)
 
 
 def workflow_copy(dest: Path) -> Path:
@@ -66,8 +72,11 @@ def done_run(tmp_path_factory: pytest.TempPathFactory) -> Path:
 
 G = grid.DesignGrid(3)
 W = grid.weights(5)
-SCIENCE = models.get("theory").science(settings.parse(config.deep_merge(
-    yaml.safe_load((Path(__file__).parents[1] / "config.yaml").read_text()), REL_CONFIG)))  # fmt: skip
+SCIENCE = models.get("theory").science(
+    settings.parse(
+        config.deep_merge(yaml.safe_load((Path(__file__).parents[1] / "config.yaml").read_text()), REL_CONFIG)
+    )
+)
 SHARD_DESIGNS = grid.split_shards(G.representatives(), 3)
 
 
@@ -81,11 +90,25 @@ def _results(designs: np.ndarray, m: int = 5, seed: int = 0) -> list[DesignResul
     return out
 
 
-def _write(path: Path, designs: np.ndarray, *, science: dict = SCIENCE, m: int = 5, seed: int = 0,
-           results: list[DesignResult] | None = None) -> None:  # fmt: skip
-    store.write_shard(path, model="theory", grid=G, weights=grid.weights(m), designs=designs,
-                      results=results or _results(designs, m, seed), science=science,
-                      provenance={})  # fmt: skip
+def _write(
+    path: Path,
+    designs: np.ndarray,
+    *,
+    science: dict = SCIENCE,
+    m: int = 5,
+    seed: int = 0,
+    results: list[DesignResult] | None = None,
+) -> None:
+    store.write_shard(
+        path,
+        model="theory",
+        grid=G,
+        weights=grid.weights(m),
+        designs=designs,
+        results=results or _results(designs, m, seed),
+        science=science,
+        provenance={},
+    )
 
 
 def _shards(d: Path) -> list[Path]:
@@ -96,8 +119,17 @@ def _shards(d: Path) -> list[Path]:
 
 
 def _merge(paths: list[Path], out: Path) -> None:
-    store.merge_shards(paths, out, model="theory", grid=G, weights=W, shard_designs=SHARD_DESIGNS,
-                       science=SCIENCE, mirror=True, provenance={})  # fmt: skip
+    store.merge_shards(
+        paths,
+        out,
+        model="theory",
+        grid=G,
+        weights=W,
+        shard_designs=SHARD_DESIGNS,
+        science=SCIENCE,
+        mirror=True,
+        provenance={},
+    )
 
 
 def test_shard_carries_checksum_and_config_hash(tmp_path: Path) -> None:
@@ -156,8 +188,19 @@ def _damage(kind: str, paths: list[Path]) -> str:
     raise AssertionError(kind)
 
 
-@pytest.mark.parametrize("kind", ["corrupted bytes", "truncated", "missing", "foreign", "wrong designs",
-                                  "wrong shape", "NaN distance", "bad status"])  # fmt: skip
+@pytest.mark.parametrize(
+    "kind",
+    [
+        "corrupted bytes",
+        "truncated",
+        "missing",
+        "foreign",
+        "wrong designs",
+        "wrong shape",
+        "NaN distance",
+        "bad status",
+    ],
+)
 def test_merge_refuses_a_bad_shard_and_writes_nothing(tmp_path: Path, kind: str) -> None:
     paths = _shards(tmp_path)
     why = _damage(kind, paths)
@@ -175,8 +218,11 @@ def test_workflow_merge_refuses_a_corrupted_shard(done_run: Path, tmp_path: Path
     wd = tmp_path / "corrupt"
     shutil.copytree(done_run, wd, symlinks=True)  # results and .snakemake metadata, mtimes kept
     merged = wd / "results/theory/merged.zarr"
-    before = {p.relative_to(merged): p.read_bytes() for p in merged.rglob("*") if p.is_file()
-              and p.name != ".snakemake_timestamp"}  # fmt: skip
+    before = {
+        p.relative_to(merged): p.read_bytes()
+        for p in merged.rglob("*")
+        if p.is_file() and p.name != ".snakemake_timestamp"
+    }
     shard = wd / "results/theory/shards/shard_2.nc"
     _flip_data_byte(shard)  # newer than merged.zarr: snakemake re-runs the merge, not the shard
     proc = snakemake(wd, "--cores", "1", "--configfile", "rel.yaml", check=False)
@@ -185,8 +231,11 @@ def test_workflow_merge_refuses_a_corrupted_shard(done_run: Path, tmp_path: Path
     log = (wd / "results/logs/theory/merge.log").read_text()
     assert "shard results/theory/shards/shard_2.nc: data checksum mismatch (damaged)" in log, log[-2000:]
     # The previous good store is still there, byte for byte, and still verifies.
-    after = {p.relative_to(merged): p.read_bytes() for p in merged.rglob("*") if p.is_file()
-             and p.name != ".snakemake_timestamp"}  # fmt: skip
+    after = {
+        p.relative_to(merged): p.read_bytes()
+        for p in merged.rglob("*")
+        if p.is_file() and p.name != ".snakemake_timestamp"
+    }
     assert after == before
     store.verify_merged(merged)
     assert temporaries(wd / "results") == []
@@ -228,8 +277,14 @@ def test_kill_mid_run_then_resume_recomputes_only_unfinished_shards(done_run: Pa
     env = dict(os.environ, MORPHLEARN_GIT_COMMIT="test")
     log_path = tmp_path / "first.log"
     with log_path.open("w") as log:
-        proc = subprocess.Popen([SNAKEMAKE, "--cores", "2", "--configfile", "rel.yaml"], cwd=wd, env=env,
-                                stdout=log, stderr=subprocess.STDOUT, start_new_session=True)  # fmt: skip
+        proc = subprocess.Popen(
+            [SNAKEMAKE, "--cores", "2", "--configfile", "rel.yaml"],
+            cwd=wd,
+            env=env,
+            stdout=log,
+            stderr=subprocess.STDOUT,
+            start_new_session=True,
+        )
         try:
             deadline = time.monotonic() + 600
             # Kill once snakemake has registered at least one shard as finished (2 cores: 6 shards
@@ -246,8 +301,9 @@ def test_kill_mid_run_then_resume_recomputes_only_unfinished_shards(done_run: Pa
     unfinished = set(shards) - finished
     assert 1 <= len(finished) < N_SHARDS, (finished, log_path.read_text()[-3000:])
     assert not (wd / "results/theory/merged.zarr").exists()
-    designs = models.get("theory").shard_designs(settings.parse(config.deep_merge(
-        yaml.safe_load((wd / "config.yaml").read_text()), REL_CONFIG)))  # fmt: skip
+    designs = models.get("theory").shard_designs(
+        settings.parse(config.deep_merge(yaml.safe_load((wd / "config.yaml").read_text()), REL_CONFIG))
+    )
     for s in finished:  # what looks finished is complete and verifies
         i = int(s.split("_")[-1].split(".")[0])
         store.verify_shard(store.read_shard(wd / s), model="theory", science=SCIENCE, designs=designs[i], m=5)
@@ -258,14 +314,18 @@ def test_kill_mid_run_then_resume_recomputes_only_unfinished_shards(done_run: Pa
     stale.write_bytes(b"half a shard")
     (wd / "results/theory/.merged.zarr.tmp-999999").mkdir(parents=True)
     before = {s: (wd / s).stat().st_mtime_ns for s in finished}
-    bench_before = {s: (wd / s.replace("theory/shards/", "benchmarks/theory/").replace(".nc", ".tsv"))
-                    .stat().st_mtime_ns for s in finished}  # fmt: skip
+    bench_before = {
+        s: (wd / s.replace("theory/shards/", "benchmarks/theory/").replace(".nc", ".tsv")).stat().st_mtime_ns
+        for s in finished
+    }
 
     snakemake(wd, "--unlock")
     proc2 = snakemake(wd, "--cores", "2", "--configfile", "rel.yaml", "--rerun-incomplete")
     recomputed = job_stats(proc2.stdout + proc2.stderr).get("theory_shard", 0)
-    print(f"\nkilled with {len(finished)} of {N_SHARDS} shards finished; resume recomputed "
-          f"{recomputed} shard(s): {sorted(unfinished)}")  # fmt: skip
+    print(
+        f"\nkilled with {len(finished)} of {N_SHARDS} shards finished; resume recomputed "
+        f"{recomputed} shard(s): {sorted(unfinished)}"
+    )
     assert recomputed == len(unfinished)
     assert len(re.findall(r"rule theory_shard:", proc2.stderr)) == len(unfinished)
     for s in finished:  # finished shards untouched: same file, benchmark not re-written
@@ -305,8 +365,9 @@ def test_change_invalidates_exactly_what_depends_on_it(done_run: Path, change: d
 
 
 def test_dt_is_science_only_for_the_fixed_step_integrator() -> None:
-    base = config.validate(config.deep_merge(yaml.safe_load((Path(__file__).parents[1] / "config.yaml")
-                                                            .read_text()), REL_CONFIG))  # fmt: skip
+    base = config.validate(
+        config.deep_merge(yaml.safe_load((Path(__file__).parents[1] / "config.yaml").read_text()), REL_CONFIG)
+    )
     rk4 = config.deep_merge(base, {"theory": {"integrator": "rk4"}})
 
     def dig(cfg: dict) -> str:
@@ -433,12 +494,13 @@ def test_stale_temporary_of_a_killed_writer_is_removed(tmp_path: Path) -> None:
 @pytest.mark.slow
 def test_verify_agrees_with_the_reference(done_run: Path, capsys: pytest.CaptureFixture) -> None:
     merged = done_run / "results/theory/merged.zarr"
-    rc = cli.main(["verify", "--merged", str(merged), "--samples", "24", "--seed", "3", "--workers", "2",
-                   "--json"])  # fmt: skip
+    rc = cli.main(["verify", "--merged", str(merged), "--samples", "24", "--seed", "3", "--workers", "2", "--json"])
     out = json.loads(capsys.readouterr().out)
-    print(f"\nverify: success agreement {out['success_agreement']:.4f} ({out['success_agree']}/"
-          f"{out['samples']}), near-boundary {out['disagree_near_boundary']}, unexplained "
-          f"{out['disagree_unexplained']}; first-time agreement {out['first_time_agreement']}")  # fmt: skip
+    print(
+        f"\nverify: success agreement {out['success_agreement']:.4f} ({out['success_agree']}/"
+        f"{out['samples']}), near-boundary {out['disagree_near_boundary']}, unexplained "
+        f"{out['disagree_unexplained']}; first-time agreement {out['first_time_agreement']}"
+    )
     assert rc == (0 if out["ok"] else 1)
     assert out["samples"] == 24 and out["parameters"]["r"] == 4.0 and out["parameters"]["horizon"] == 500.0
     assert out["parameters"]["success_radius"] == 0.2
@@ -474,8 +536,9 @@ def test_verify_bad_arguments_exit_2_one_line(tmp_path: Path, args: list[str], m
     _merge(paths, tmp_path / "m.zarr")
     args = [a.format(m=tmp_path / "m.zarr", s=paths[0]) for a in args]
     listing = sorted(tmp_path.rglob("*"))
-    proc = subprocess.run([sys.executable, "-m", "morphlearn.cli", "verify", *args], cwd=tmp_path,
-                          capture_output=True, text=True)  # fmt: skip
+    proc = subprocess.run(
+        [sys.executable, "-m", "morphlearn.cli", "verify", *args], cwd=tmp_path, capture_output=True, text=True
+    )
     assert proc.returncode == 2, proc.stderr
     assert proc.stderr.startswith("morphlearn verify: error: ") and msg in proc.stderr, proc.stderr
     assert proc.stderr.count("\n") == 1 and proc.stdout == ""

@@ -78,8 +78,7 @@ def test_default_set_needs_five_simulations_for_nine_scenarios() -> None:
     r2 = round(4 * math.sqrt(2), 9)
     # r = 4: (500, 0.2) answers base, T250, radius0.4; (1000, 0.1) answers T1000 (radius) and
     # radius0.1 (horizon); both cost 1500 time units, the tie goes to simulating the base itself.
-    assert simulated == {(4.0, 500.0, 0.2), (4.0, 1000.0, 0.1), (2.0, 500.0, 0.2), (8.0, 500.0, 0.2),
-                         (r2, 1000.0, 0.2)}  # fmt: skip
+    assert simulated == {(4.0, 500.0, 0.2), (4.0, 1000.0, 0.1), (2.0, 500.0, 0.2), (8.0, 500.0, 0.2), (r2, 1000.0, 0.2)}
     how = {n: a.how for n, a in p.answers.items()}
     assert how["base"] == how["r4sqrt2_T1000"] == sc.HOW_DIRECT
     assert how["T250"] == how["r4sqrt2"] == how["radius0.1"] == sc.HOW_HORIZON
@@ -109,6 +108,7 @@ def test_derived_success_equals_direct_simulation() -> None:
         differ = derived != direct_short
         assert derived.sum() > 0 and (~derived).sum() > 0  # the test has both outcomes
         assert np.all(np.abs(np.nan_to_num(lg.first_time[differ], nan=1e9) - 150.0) < 5.0), differ.sum()
+
     def succ(res, t: float, rad: float, ts: float, rs: float) -> np.ndarray:
         return metrics.success(res.first_time, res.min_dist, metrics.Thresholds(t, rad, ts, rs))
 
@@ -120,8 +120,17 @@ def test_derived_success_equals_direct_simulation() -> None:
 def _table(ml: np.ndarray, cf: np.ndarray) -> pd.DataFrame:
     g = gridmod.DesignGrid(3)
     c = g.coords(np.arange(g.size))
-    return pd.DataFrame({"design": np.arange(g.size), "l1x": c[:, 0], "l1y": c[:, 1], "l2x": c[:, 2],
-                         "l2y": c[:, 3], "M_L": ml, "M_CF": cf})  # fmt: skip
+    return pd.DataFrame(
+        {
+            "design": np.arange(g.size),
+            "l1x": c[:, 0],
+            "l1y": c[:, 1],
+            "l2x": c[:, 2],
+            "l2y": c[:, 3],
+            "M_L": ml,
+            "M_CF": cf,
+        }
+    )
 
 
 def test_compare_statistics_on_known_tables() -> None:
@@ -130,8 +139,9 @@ def test_compare_statistics_on_known_tables() -> None:
     ml = np.linspace(0.0, 0.8, n)
     cf = np.linspace(1.0, 0.2, n)
     canon = g.index_of(*gridmod.canonical_design())
-    comp = sc.compare({"base": _table(ml, cf), "same": _table(ml, cf), "rev": _table(ml[::-1], cf[::-1])},
-                      top=10).set_index("scenario")  # fmt: skip
+    comp = sc.compare(
+        {"base": _table(ml, cf), "same": _table(ml, cf), "rev": _table(ml[::-1], cf[::-1])}, top=10
+    ).set_index("scenario")
     assert comp.loc["same", "tau_M_L"] == pytest.approx(1.0)
     assert comp.loc["rev", "tau_M_L"] == pytest.approx(-1.0)
     assert comp.loc["rev", "tau_M_CF"] == pytest.approx(-1.0)
@@ -163,9 +173,15 @@ def test_scenario_workflow_smoke(tmp_path: Path) -> None:
     """Three scenarios, one simulation: the base at smoke resolution, a shorter horizon and a larger
     radius answered from it; then the comparison. A bad scenario name stops the start (exit 2)."""
     wd = copy_workflow(tmp_path / "wf")
-    (wd / "config" / "s.yaml").write_text(yaml.safe_dump({
-        "base": {}, "short": {"theory": {"horizon": 200.0}}, "wide": {"theory": {"success_radius": 0.4}},
-    }))  # fmt: skip
+    (wd / "config" / "s.yaml").write_text(
+        yaml.safe_dump(
+            {
+                "base": {},
+                "short": {"theory": {"horizon": 200.0}},
+                "wide": {"theory": {"success_radius": 0.4}},
+            }
+        )
+    )
     over = ["--configfile", "config/smoke.yaml", "--config", "scenario_file=config/s.yaml"]
     bad = snakemake(wd, "-n", "--cores", "1", *over, "scenarios=base,nope", check=False)
     assert bad.returncode == 2 and "unknown scenario ['nope']" in bad.stderr

@@ -42,8 +42,14 @@ FULL = "config/full.yaml"
 SKIP_TOP = {".git", ".venv", ".snakemake", "results", "build", ".whl", ".gl", "tests"}
 SKIP_ANY = ("__pycache__", ".snakemake", ".pytest_cache", ".ruff_cache", "*.egg-info")
 # The merged results that must not depend on where the shards ran.
-MERGED = ("results/theory/merged.zarr", "results/theory/metrics.csv", "results/empirical/merged.zarr",
-          "results/empirical/metrics.csv", "results/summary.json", "results/reproduction.csv")
+MERGED = (
+    "results/theory/merged.zarr",
+    "results/theory/metrics.csv",
+    "results/empirical/merged.zarr",
+    "results/empirical/metrics.csv",
+    "results/summary.json",
+    "results/reproduction.csv",
+)
 SHARD_RULES = ("theory_shard", "empirical_shard")
 
 RUN_TIMEOUT_S = int(os.environ.get("MORPHLEARN_SLURM_TIMEOUT", "600"))
@@ -67,11 +73,7 @@ def _say(request: pytest.FixtureRequest, msg: str) -> None:
 
 def _env() -> dict[str, str]:
     """Clean environment: the venv first on PATH, no inherited SLURM job or profile."""
-    env = {
-        k: v
-        for k, v in os.environ.items()
-        if not k.startswith(("SLURM_", "SNAKEMAKE_", "MORPHLEARN_SLURM_"))
-    }
+    env = {k: v for k, v in os.environ.items() if not k.startswith(("SLURM_", "SNAKEMAKE_", "MORPHLEARN_SLURM_"))}
     env["PATH"] = f"{Path(sys.executable).parent}{os.pathsep}{env.get('PATH', '')}"
     return env
 
@@ -83,9 +85,7 @@ class Run:
     seconds: float
 
 
-def snakemake(
-    cwd: Path, *args: str, timeout_s: int = RUN_TIMEOUT_S, env: dict[str, str] | None = None
-) -> Run:
+def snakemake(cwd: Path, *args: str, timeout_s: int = RUN_TIMEOUT_S, env: dict[str, str] | None = None) -> Run:
     """Run Snakemake in `cwd`, killed after `timeout_s`, then unlocked if it was killed."""
     cmd = [sys.executable, "-m", "snakemake", *args]
     t0 = time.monotonic()
@@ -155,9 +155,7 @@ def tree_bytes(root: Path, rel: str) -> dict[str, bytes]:
     base = root / rel
     if base.is_file():
         return {rel: base.read_bytes()}
-    return {
-        str(p.relative_to(root)): p.read_bytes() for p in sorted(base.rglob("*")) if p.is_file()
-    }
+    return {str(p.relative_to(root)): p.read_bytes() for p in sorted(base.rglob("*")) if p.is_file()}
 
 
 def _first_difference(a: bytes, b: bytes, context: int = 40) -> str:
@@ -180,8 +178,7 @@ def slurm_cluster(request: pytest.FixtureRequest):
     if os.geteuid() != 0:
         _unavailable("not root: the local SLURM cluster needs root (apt-get, daemons)")
     have_slurm = all(
-        shutil.which(c) or Path("/usr/sbin", c).exists()
-        for c in ("slurmctld", "slurmd", "munged", "sbatch")
+        shutil.which(c) or Path("/usr/sbin", c).exists() for c in ("slurmctld", "slurmd", "munged", "sbatch")
     )
     if not have_slurm and not shutil.which("apt-get"):
         _unavailable("SLURM/munge are not installed and there is no apt-get to install them")
@@ -197,15 +194,12 @@ def slurm_cluster(request: pytest.FixtureRequest):
     )
     seconds = time.monotonic() - t0
     if proc.returncode != 0:
-        _unavailable(
-            f"{START.relative_to(REPO)} failed (rc {proc.returncode}):\n{_tail(proc.stdout, 30)}"
-        )
+        _unavailable(f"{START.relative_to(REPO)} failed (rc {proc.returncode}):\n{_tail(proc.stdout, 30)}")
     started_here = "already running" not in proc.stdout
     timing = [line for line in proc.stdout.splitlines() if "timing:" in line]
     _say(
         request,
-        f"cluster ready in {seconds:.1f} s "
-        f"({timing[0].split('timing: ')[1] if timing else 'was already running'})",
+        f"cluster ready in {seconds:.1f} s ({timing[0].split('timing: ')[1] if timing else 'was already running'})",
     )
     yield proc.stdout
     if started_here:
@@ -252,15 +246,11 @@ def smoke_runs(slurm_cluster, smoke_run, tmp_path_factory, request):
 def test_smoke_shards_ran_as_slurm_jobs(smoke_runs):
     _, run = smoke_runs["slurm"]
     counts = job_counts(run.output)
-    submitted = re.findall(
-        r"submitted with SLURM jobid \d+ \(log: \S*/rule_([A-Za-z0-9_]+)/", run.output
-    )
+    submitted = re.findall(r"submitted with SLURM jobid \d+ \(log: \S*/rule_([A-Za-z0-9_]+)/", run.output)
     shards = {rule: counts.get(rule, 0) for rule in SHARD_RULES}
     assert sum(shards.values()) > 0, f"no shard jobs in the plan: {counts}"
     for rule, n in shards.items():
-        assert submitted.count(rule) == n, (
-            f"{n} {rule} jobs planned but {submitted.count(rule)} submitted to SLURM"
-        )
+        assert submitted.count(rule) == n, f"{n} {rule} jobs planned but {submitted.count(rule)} submitted to SLURM"
     # merge/metrics/summary/all are cheap: they should run on the head node (localrules).
     others = sorted(set(submitted) - set(SHARD_RULES))
     assert not others, f"non-shard rules went to SLURM (add them to localrules?): {others}"
@@ -275,8 +265,7 @@ def test_smoke_slurm_matches_local_bit_for_bit(smoke_runs):
         assert (slurm_dir / rel).exists(), f"SLURM run did not write {rel}"
         a, b = tree_bytes(slurm_dir, rel), tree_bytes(local_dir, rel)
         assert sorted(a) == sorted(b), (
-            f"{rel}: different files\n only SLURM: {sorted(set(a) - set(b))}\n"
-            f" only local: {sorted(set(b) - set(a))}"
+            f"{rel}: different files\n only SLURM: {sorted(set(a) - set(b))}\n only local: {sorted(set(b) - set(a))}"
         )
         differing = [path for path in a if a[path] != b[path]]
         assert not differing, f"{rel}: files differ between SLURM and local:\n" + "\n".join(
@@ -369,9 +358,7 @@ def test_full_sweep_dry_run_with_cluster_profile(tmp_path, request):
     import yte
 
     workdir = copy_workflow(tmp_path / "wf")
-    run = snakemake(
-        workdir, "--profile", str(PROFILE_REAL), "--configfile", FULL, "-n", timeout_s=300
-    )
+    run = snakemake(workdir, "--profile", str(PROFILE_REAL), "--configfile", FULL, "-n", timeout_s=300)
     _require_ok(run, "dry run of the full sweep")
     counts = job_counts(run.output)
     full = yaml.safe_load((REPO / FULL).read_text())

@@ -22,9 +22,17 @@ SURVEY = {
     "grid": {"positions_per_axis": 3, "weights": 5},
     "sweep": {"shards": 2, "threads": 1},
     "analysis": {"top": 3},
-    "empirical": {"results_from": None, "designs": "all", "weights": 3, "mirror_derive": True, "early_stop": True,
-                  "adaptive_weights": True, "shards": 2, "params": {"light_distance": 2.5, "steps": 300}},
-}  # fmt: skip
+    "empirical": {
+        "results_from": None,
+        "designs": "all",
+        "weights": 3,
+        "mirror_derive": True,
+        "early_stop": True,
+        "adaptive_weights": True,
+        "shards": 2,
+        "params": {"light_distance": 2.5, "steps": 300},
+    },
+}
 
 
 @pytest.fixture(scope="module")

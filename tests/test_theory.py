@@ -20,8 +20,9 @@ STARTS = grid.env_starts(P.r)
 
 def _reference(args: tuple) -> tuple[float, float, int]:
     d, w1, w2, e = args
-    r = reference_trajectory(STARTS[e], d[:2], d[2:], w1, w2, radius=P.success_radius,
-                             horizon=P.horizon, max_nfev=300_000)  # fmt: skip
+    r = reference_trajectory(
+        STARTS[e], d[:2], d[2:], w1, w2, radius=P.success_radius, horizon=P.horizon, max_nfev=300_000
+    )
     return r.first_time, r.min_dist, r.status
 
 
@@ -49,18 +50,14 @@ def test_kernel_agrees_with_reference_on_1000_random_triples() -> None:
     # spawn, not fork: forking after numba's threads started can deadlock the children.
     with multiprocessing.get_context("spawn").Pool(2) as pool:
         ref = pool.map(_reference, triples, chunksize=10)
-    disagree = [
-        (t, f, r) for t, f, r in zip(triples, fast, ref, strict=True)
-        if math.isnan(f[0]) != math.isnan(r[0])
-    ]  # fmt: skip
+    disagree = [(t, f, r) for t, f, r in zip(triples, fast, ref, strict=True) if math.isnan(f[0]) != math.isnan(r[0])]
     agreement = 1 - len(disagree) / len(triples)
     print(f"agreement {agreement:.4f} ({len(disagree)} of {len(triples)} differ)")
     assert agreement >= 0.998
     for t, f, r in disagree:
         assert near_boundary(r[0], r[1], r[2], int(f[2])), f"unexplained disagreement {t} {f} {r}"
     # Where both succeed the first-success times agree closely.
-    both = [(f[0], r[0]) for f, r in zip(fast, ref, strict=True)
-            if not math.isnan(f[0]) and not math.isnan(r[0])]  # fmt: skip
+    both = [(f[0], r[0]) for f, r in zip(fast, ref, strict=True) if not math.isnan(f[0]) and not math.isnan(r[0])]
     assert both and max(abs(a - b) for a, b in both) < 0.05
 
 

@@ -35,8 +35,14 @@ def main() -> None:
     extra = np.random.default_rng(0).choice(rest, 12, replace=False).tolist()
     chosen = sorted(top + [int(x) for x in extra])
     designs = sorted({int(x) for d in chosen for x in (d, g.mirror(d))})
-    lines = [HEAD.format(n=len(designs)), "results_dir: results/survey-body2", "bundle_dir: null",
-             "empirical:", "  morphology: config/empirical_morphology_body2.yaml", "  designs:"]  # fmt: skip
+    lines = [
+        HEAD.format(n=len(designs)),
+        "results_dir: results/survey-body2",
+        "bundle_dir: null",
+        "empirical:",
+        "  morphology: config/empirical_morphology_body2.yaml",
+        "  designs:",
+    ]
     for d in chosen:
         c = g.coords(d)
         lines.append(f"    - [[{c[0]:g}, {c[1]:g}], [{c[2]:g}, {c[3]:g}]]")

@@ -49,8 +49,9 @@ def rows(schema: dict[str, Any], prefix: str = "") -> list[str]:
     for key, s in schema.get("properties", {}).items():
         name = f"{prefix}{key}"
         default = f"`{json.dumps(s['default'])}`" if "default" in s else ("required" if key in required else "")
-        out.append(f"| `{name}` | {_kind(s)} | {_cell(_allowed(s))} | {_cell(default)} | "
-                   f"{_cell(s.get('description', ''))} |")  # fmt: skip
+        out.append(
+            f"| `{name}` | {_kind(s)} | {_cell(_allowed(s))} | {_cell(default)} | {_cell(s.get('description', ''))} |"
+        )
         if s.get("type") == "object" and "properties" in s:
             out += rows(s, f"{name}.")
     return out
@@ -58,18 +59,20 @@ def rows(schema: dict[str, Any], prefix: str = "") -> list[str]:
 
 def render() -> str:
     schema = yaml.safe_load(SCHEMA.read_text())
-    return "\n".join([
-        "# Configuration keys",
-        "",
-        "Generated from `src/morphlearn/config_schema.yaml` by `tools/config_docs.py`: do not edit by",
-        "hand. `config.yaml` is the default (reduced) sweep; the presets in this folder override it",
-        "(`snakemake --configfile config/full.yaml`); `full.yaml` and `gpu.yaml` write to their own `results_dir`.",
-        "",
-        "| key | type | allowed | default | meaning |",
-        "|---|---|---|---|---|",
-        *rows(schema),
-        "",
-    ])  # fmt: skip
+    return "\n".join(
+        [
+            "# Configuration keys",
+            "",
+            "Generated from `src/morphlearn/config_schema.yaml` by `tools/config_docs.py`: do not edit by",
+            "hand. `config.yaml` is the default (reduced) sweep; the presets in this folder override it",
+            "(`snakemake --configfile config/full.yaml`); `full.yaml` and `gpu.yaml` write to their own `results_dir`.",
+            "",
+            "| key | type | allowed | default | meaning |",
+            "|---|---|---|---|---|",
+            *rows(schema),
+            "",
+        ]
+    )
 
 
 def main() -> int:

@@ -19,8 +19,10 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT / "src"))
 
-NAME_CMP = re.compile(r'(==|!=)\s*"(theory|empirical|mujoco)"|"(theory|empirical|mujoco)"\s*(==|!=)'
-                      r'|startswith\("(theory|empirical|mujoco)')  # fmt: skip
+NAME_CMP = re.compile(
+    r'(==|!=)\s*"(theory|empirical|mujoco)"|"(theory|empirical|mujoco)"\s*(==|!=)'
+    r'|startswith\("(theory|empirical|mujoco)'
+)
 RAW_READ = re.compile(r"\bcfg\[|\bcfg\.get\(|\bCFG\[")
 EDGE_FILES = {"config.py", "settings.py"}
 
@@ -88,8 +90,9 @@ def per_shard() -> dict[str, int]:
     plugin.load_params = load
     out = {}
     with tempfile.TemporaryDirectory() as tmp:
-        raw = config.deep_merge(config.read(ROOT / "config.yaml", [ROOT / "config/smoke.yaml"]),
-                                {"results_dir": tmp, "design_cache": False})  # fmt: skip
+        raw = config.deep_merge(
+            config.read(ROOT / "config.yaml", [ROOT / "config/smoke.yaml"]), {"results_dir": tmp, "design_cache": False}
+        )
         for model in ("theory", "empirical"):
             for k in counts:
                 counts[k] = 0

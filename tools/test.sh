@@ -4,6 +4,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 export PATH="$PWD/.venv/bin:$PATH"
 echo "== ruff (the package, tests, scripts and notebooks/*.ipynb: ruff lints notebooks natively)"; ruff check .
+echo "== ruff format (Python files; notebooks keep their own layout)"; ruff format --check --exclude '*.ipynb' .
 echo "== snakefmt"; snakefmt --check Snakefile workflow/rules/
 echo "== snakemake --lint"; snakemake --lint --cores 1 >/dev/null
 echo "== dry run of the full config"; snakemake -n --configfile config/full.yaml --quiet rules >/dev/null

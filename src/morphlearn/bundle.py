@@ -80,8 +80,13 @@ def made_by(configs: list[str], results_dir: str) -> dict[str, Any]:
     """What made a run: its config files, results folder, the command, commit and version."""
     extra = [c for c in configs if Path(c).name != "config.yaml"]  # config.yaml is always loaded
     command = "snakemake --cores 2" + (f" --configfile {' '.join(extra)}" if extra else "")
-    return {"configs": configs, "results_dir": results_dir, "command": command,
-            "git_commit": provenance.git_commit(), "version": __version__}  # fmt: skip
+    return {
+        "configs": configs,
+        "results_dir": results_dir,
+        "command": command,
+        "git_commit": provenance.git_commit(),
+        "version": __version__,
+    }
 
 
 def _models(run_dir: Path) -> list[str]:
@@ -121,8 +126,11 @@ def build(run_dir: str | Path, out_dir: str | Path, *, top: int, made_by: dict[s
             designs = drawn_designs(table, n, top) if every else np.sort(table.design)
             src = run_dir / model / "merged.zarr"
             store.write_subset(src, designs, tmp / model / "merged.zarr")
-            subsets[model] = {"designs": [int(d) for d in designs], "of": len(table),
-                              "simulated_by": _simulated_by(src)}  # fmt: skip
+            subsets[model] = {
+                "designs": [int(d) for d in designs],
+                "of": len(table),
+                "simulated_by": _simulated_by(src),
+            }
         for name in LEARNER_FILES:  # the learner stage (beyond the paper), when the run has it
             if (run_dir / "learners" / name).is_file():
                 (tmp / "learners").mkdir(exist_ok=True)
@@ -155,8 +163,14 @@ def run_cost(run_dir: str | Path) -> pd.DataFrame:
     for p in sorted(bench.rglob("*.tsv")):
         t = pd.read_csv(p, sep="\t")
         if len(t):
-            rows.append({"job": str(p.relative_to(bench).with_suffix("")), "wall_s": float(t.s.iloc[-1]),
-                         "cpu_s": float(t.cpu_time.iloc[-1]), "max_rss_mb": float(t.max_rss.iloc[-1])})  # fmt: skip
+            rows.append(
+                {
+                    "job": str(p.relative_to(bench).with_suffix("")),
+                    "wall_s": float(t.s.iloc[-1]),
+                    "cpu_s": float(t.cpu_time.iloc[-1]),
+                    "max_rss_mb": float(t.max_rss.iloc[-1]),
+                }
+            )
     return pd.DataFrame(rows, columns=["job", "wall_s", "cpu_s", "max_rss_mb"])
 
 
@@ -222,11 +236,20 @@ def readme(manifest: dict[str, Any], run_dir: Path, cost: pd.DataFrame) -> str:
     lines += ["", "Shards simulated by (commit: shards; backend; device):", ""]
     for model, s in sub.items():
         by = s.get("simulated_by", {})
-        lines.append(f"- {model}: " + "; ".join(", ".join(f"{k}: {v}" for k, v in by.get(part, {}).items())
-                                              for part in ("git_commits", "backends", "devices")))  # fmt: skip
+        lines.append(
+            f"- {model}: "
+            + "; ".join(
+                ", ".join(f"{k}: {v}" for k, v in by.get(part, {}).items())
+                for part in ("git_commits", "backends", "devices")
+            )
+        )
     if len(cost):
-        lines += ["", "What the run cost (sums of the jobs' benchmark files; wall seconds add up jobs that "
-                  "ran side by side):", "", *cost_lines(cost)]  # fmt: skip
+        lines += [
+            "",
+            "What the run cost (sums of the jobs' benchmark files; wall seconds add up jobs that ran side by side):",
+            "",
+            *cost_lines(cost),
+        ]
     lines += [
         "",
         "Left out (regenerate with the command above; the shards take the CPU time stated in",

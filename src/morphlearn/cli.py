@@ -61,8 +61,10 @@ def cmd_design(a: argparse.Namespace) -> int:
     l2 = _position("--l2", a.l2)
     if not 2 <= a.weights <= MAX_WEIGHTS:
         gib = 4 * a.weights**2 * 9 / 2**30  # first_time, min_dist (float32), status (int8) per cell
-        raise UsageError(f"--weights = {a.weights} must be in 2..{MAX_WEIGHTS} (one design's 4 x {a.weights}"
-                         f" x {a.weights} results would need {gib:.3g} GiB of memory)")  # fmt: skip
+        raise UsageError(
+            f"--weights = {a.weights} must be in 2..{MAX_WEIGHTS} (one design's 4 x {a.weights}"
+            f" x {a.weights} results would need {gib:.3g} GiB of memory)"
+        )
     for name in POSITIVE:
         _positive(f"--{name}", getattr(a, name))
     model = models.get(a.model)
@@ -72,12 +74,19 @@ def cmd_design(a: argparse.Namespace) -> int:
     if given:
         owners = sorted({others[o] for o in given})
         takes = ", ".join(f"--{o}" for o in model.cli_options) or "no model options"
-        raise UsageError(f"{', '.join(f'--{o}' for o in given)}: option{'s' if len(given) > 1 else ''} of the "
-                         f"{' and '.join(owners)} model; the {a.model} model takes {takes}")  # fmt: skip
+        raise UsageError(
+            f"{', '.join(f'--{o}' for o in given)}: option{'s' if len(given) > 1 else ''} of the "
+            f"{' and '.join(owners)} model; the {a.model} model takes {takes}"
+        )
     res = model.evaluate_one(l1, l2, gridmod.weights(a.weights), a)
     dm = design_metrics(~np.isnan(res.first_time), res.status)
-    out = {"per_env": dm.per_env, "generalists": dm.generalists, "at_least_one": dm.at_least_one, **dm.values,
-           "flagged": dm.flagged}  # fmt: skip
+    out = {
+        "per_env": dm.per_env,
+        "generalists": dm.generalists,
+        "at_least_one": dm.at_least_one,
+        **dm.values,
+        "flagged": dm.flagged,
+    }
     if a.json:
         print(json.dumps(out))
     else:
@@ -111,8 +120,7 @@ def cmd_check_bundle(a: argparse.Namespace) -> int:
     if not problems:
         print(f"{a.bundle}: every file listed in {bundle.MANIFEST} is present and unchanged")
     if a.resimulate:
-        print(f"re-simulating {', '.join(a.resimulate)} (theory model, the bundle's recorded science)",
-              flush=True)  # fmt: skip
+        print(f"re-simulating {', '.join(a.resimulate)} (theory model, the bundle's recorded science)", flush=True)
         again = resimulate.resimulate(a.bundle, a.resimulate)
         for line in again:
             print(line)
@@ -192,15 +200,21 @@ def build_parser() -> argparse.ArgumentParser:
     v.add_argument("--samples", type=int, default=200, metavar="N", help="cells to re-evaluate (200)")
     v.add_argument("--seed", type=int, default=0, metavar="S", help="random seed of the sample (0)")
     v.add_argument("--workers", type=int, default=1, metavar="K", help="processes for the reference (1)")
-    v.add_argument("--time-tol", type=float, default=0.05, metavar="DT",
-                   help="first-success times agree within this (0.05)")  # fmt: skip
+    v.add_argument(
+        "--time-tol", type=float, default=0.05, metavar="DT", help="first-success times agree within this (0.05)"
+    )
     v.add_argument("--json", action="store_true", help="print one JSON object")
     v.set_defaults(func=cmd_verify)
     b = sub.add_parser("check-bundle", help="compare a results bundle's files with its bundle.json")
     b.add_argument("bundle", metavar="DIR", help="the bundle folder (e.g. results/paper)")
-    b.add_argument("--resimulate", nargs="+", metavar="WHICH", default=[],
-                   help="also re-simulate these theory designs and compare them exactly: canonical, "
-                        "best_M_L, best_M_CF or design indices (paper resolution: a few seconds each)")  # fmt: skip
+    b.add_argument(
+        "--resimulate",
+        nargs="+",
+        metavar="WHICH",
+        default=[],
+        help="also re-simulate these theory designs and compare them exactly: canonical, "
+        "best_M_L, best_M_CF or design indices (paper resolution: a few seconds each)",
+    )
     b.set_defaults(func=cmd_check_bundle)
     c = sub.add_parser("compare", help="rank agreement (Spearman, bootstrap interval) of two metrics tables")
     c.add_argument("a", metavar="METRICS_A", help="a metrics.csv (e.g. results/survey/theory/metrics.csv)")

@@ -35,9 +35,7 @@ def joined(a: pd.DataFrame, b: pd.DataFrame, names: tuple[str, str] = PAIR) -> p
             raise ValueError(f"design indices disagree on {c}: the two tables use different grids")
     both = both.rename(columns={f"{c}_{x}": c for c in COORDS}).drop(columns=[f"{c}_{y}" for c in COORDS])
     for model in names:
-        sub = both[["design", *COORDS, *(f"{m}_{model}" for m in ms)]].rename(
-            columns={f"{m}_{model}": m for m in ms}
-        )
+        sub = both[["design", *COORDS, *(f"{m}_{model}" for m in ms)]].rename(columns={f"{m}_{model}": m for m in ms})
         for by in ms:
             order = metrics.rank_designs(sub, by).design.to_numpy()
             rank = pd.Series(np.arange(1, len(order) + 1), index=order)
@@ -61,8 +59,9 @@ class RankAgreement:
         return f"{self.rho:.3f} [{self.low:.3f}, {self.high:.3f}] ({interval})"
 
 
-def spearman_ci(x: np.ndarray, y: np.ndarray, metric: str, n_resamples: int = 2000, level: float = 0.95,
-                seed: int = 0) -> RankAgreement:  # fmt: skip
+def spearman_ci(
+    x: np.ndarray, y: np.ndarray, metric: str, n_resamples: int = 2000, level: float = 0.95, seed: int = 0
+) -> RankAgreement:
     """Spearman's rho of paired per-design values with a percentile bootstrap interval over designs
     (seeded: the same inputs give the same interval)."""
     x, y = np.asarray(x, float), np.asarray(y, float)
@@ -72,9 +71,16 @@ def spearman_ci(x: np.ndarray, y: np.ndarray, metric: str, n_resamples: int = 20
         return stats.spearmanr(a, b).statistic
 
     with np.errstate(invalid="ignore"):  # a resample with a constant column gives NaN: dropped
-        res = stats.bootstrap((x, y), stat, paired=True, vectorized=False, n_resamples=n_resamples,
-                              confidence_level=level, method="percentile",
-                              random_state=np.random.default_rng(seed))  # fmt: skip
+        res = stats.bootstrap(
+            (x, y),
+            stat,
+            paired=True,
+            vectorized=False,
+            n_resamples=n_resamples,
+            confidence_level=level,
+            method="percentile",
+            random_state=np.random.default_rng(seed),
+        )
     lo, hi = res.confidence_interval
     return RankAgreement(metric, len(x), rho, float(lo), float(hi), level)
 
@@ -92,6 +98,8 @@ def sensor_use(table: pd.DataFrame, top: int, by: str = "M_L") -> pd.DataFrame:
     pts = np.concatenate([best[["l1x", "l1y"]].to_numpy(), best[["l2x", "l2y"]].to_numpy()])
     axis = np.unique(table[["l1x", "l1y", "l2x", "l2y"]].to_numpy())
     xs, ys = np.meshgrid(axis, axis, indexing="ij")
-    counts = [int(np.sum(np.isclose(pts[:, 0], x) & np.isclose(pts[:, 1], y)))
-              for x, y in zip(xs.ravel(), ys.ravel(), strict=True)]  # fmt: skip
+    counts = [
+        int(np.sum(np.isclose(pts[:, 0], x) & np.isclose(pts[:, 1], y)))
+        for x, y in zip(xs.ravel(), ys.ravel(), strict=True)
+    ]
     return pd.DataFrame({"x": xs.ravel(), "y": ys.ravel(), "count": counts})

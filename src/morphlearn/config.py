@@ -67,9 +67,7 @@ def validate(cfg: dict[str, Any]) -> dict[str, Any]:
         raise ConfigError(f"config must be a mapping, got {type(cfg).__name__}")
     _check_finite(cfg, "")
     sch = schema()
-    errors = sorted(
-        jsonschema.Draft202012Validator(sch).iter_errors(cfg), key=lambda e: list(e.absolute_path)
-    )
+    errors = sorted(jsonschema.Draft202012Validator(sch).iter_errors(cfg), key=lambda e: list(e.absolute_path))
     if errors:
         raise ConfigError(_describe(errors[0]))
     out = copy.deepcopy(cfg)
@@ -87,15 +85,18 @@ def _check_finite(obj: Any, key: str) -> None:
         for i, v in enumerate(obj):
             _check_finite(v, f"{key}.{i}")
     elif isinstance(obj, float) and not math.isfinite(obj):
-        raise ConfigError(f"{key} = {obj!r} is not a finite number; allowed: finite numbers in the "
-                          "range the schema gives")  # fmt: skip
+        raise ConfigError(
+            f"{key} = {obj!r} is not a finite number; allowed: finite numbers in the range the schema gives"
+        )
 
 
 def _check_results_dir(rd: str) -> None:
     p = Path(rd)
     if p.resolve() == Path(p.resolve().anchor):
-        raise ConfigError(f"results_dir = {rd!r} is the file-system root; allowed: a non-empty path "
-                          "other than '/' (default 'results')")  # fmt: skip
+        raise ConfigError(
+            f"results_dir = {rd!r} is the file-system root; allowed: a non-empty path "
+            "other than '/' (default 'results')"
+        )
     if p.exists() and not p.is_dir():
         raise ConfigError(f"results_dir = {rd!r} is an existing file; allowed: a folder (or a new path)")
 
@@ -118,12 +119,16 @@ def _check_analysis(a: dict[str, Any], th: dict[str, Any]) -> None:
             f"radius; allowed: null or {th['horizon']} (a larger radius is known only at the simulated horizon)"
         )
     if th["success_radius"] >= th["r"]:
-        raise ConfigError(f"theory.success_radius = {th['success_radius']} is not below theory.r = "
-                          f"{th['r']}; allowed: < {th['r']} (the robot would start inside the light)")  # fmt: skip
+        raise ConfigError(
+            f"theory.success_radius = {th['success_radius']} is not below theory.r = "
+            f"{th['r']}; allowed: < {th['r']} (the robot would start inside the light)"
+        )
     need = math.ceil(th["horizon"] / th["dt"])
     if th["integrator"] == "rk4" and th["max_steps"] < need:  # the cap would cut every trajectory short
-        raise ConfigError(f"theory.max_steps = {th['max_steps']} is below the {need} steps that theory.integrator "
-                          f"= rk4 takes (horizon / dt); allowed: max_steps >= {need}, or a larger dt")  # fmt: skip
+        raise ConfigError(
+            f"theory.max_steps = {th['max_steps']} is below the {need} steps that theory.integrator "
+            f"= rk4 takes (horizon / dt); allowed: max_steps >= {need}, or a larger dt"
+        )
 
 
 def _check_cross(cfg: dict[str, Any]) -> None:
@@ -134,8 +139,7 @@ def _check_cross(cfg: dict[str, Any]) -> None:
     _check_analysis(cfg["analysis"], th)
     if cfg.get("render_only") and not (cfg["figures"]["enabled"] and th.get("enabled", True)):
         raise ConfigError(
-            "render_only = true needs figures.enabled and theory.enabled; allowed: render_only = false "
-            "or both enabled"
+            "render_only = true needs figures.enabled and theory.enabled; allowed: render_only = false or both enabled"
         )
 
 

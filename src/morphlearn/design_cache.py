@@ -52,9 +52,25 @@ def load(folder: Path, designs: np.ndarray, *, model: str, science: dict[str, An
     return found
 
 
-def save(folder: Path, design: int, result: DesignResult, *, model: str, grid: DesignGrid,
-         weights: np.ndarray, science: dict[str, Any], provenance: dict[str, Any]) -> None:  # fmt: skip
+def save(
+    folder: Path,
+    design: int,
+    result: DesignResult,
+    *,
+    model: str,
+    grid: DesignGrid,
+    weights: np.ndarray,
+    science: dict[str, Any],
+    provenance: dict[str, Any],
+) -> None:
     """Write one finished design (atomically, in the shard schema)."""
-    store.write_shard(design_path(folder, design), model=model, grid=grid, weights=weights,
-                      designs=np.array([int(design)]), results=[result], science=science,
-                      provenance=provenance)  # fmt: skip
+    store.write_shard(
+        design_path(folder, design),
+        model=model,
+        grid=grid,
+        weights=weights,
+        designs=np.array([int(design)]),
+        results=[result],
+        science=science,
+        provenance=provenance,
+    )

@@ -32,9 +32,7 @@ class Thresholds:
 
     def __post_init__(self) -> None:
         if not 0 < self.horizon <= self.sim_horizon:
-            raise ValueError(
-                f"horizon = {self.horizon} must be in (0, {self.sim_horizon}] (the simulated horizon)"
-            )
+            raise ValueError(f"horizon = {self.horizon} must be in (0, {self.sim_horizon}] (the simulated horizon)")
         if self.radius < self.sim_radius:
             raise ValueError(
                 f"success radius = {self.radius} is below the simulated {self.sim_radius}: "
@@ -85,9 +83,12 @@ class Metric:
 #: this: adding a metric is one line here (its notebook figure, if any, is a figure's business).
 METRICS: dict[str, Metric] = {
     "M_L": Metric("M_L", lambda c: c.generalists / c.cells, text="learnability: generalists / controllers"),
-    "M_CF": Metric("M_CF", lambda c: c.generalists / c.at_least_one if c.at_least_one else 0.0,
-                   text="forgetting resistance: generalists / controllers that succeed at least once"),
-}  # fmt: skip
+    "M_CF": Metric(
+        "M_CF",
+        lambda c: c.generalists / c.at_least_one if c.at_least_one else 0.0,
+        text="forgetting resistance: generalists / controllers that succeed at least once",
+    ),
+}
 
 
 @dataclass(frozen=True)
@@ -105,8 +106,13 @@ class DesignMetrics:
         raise AttributeError(name)
 
     def as_dict(self) -> dict:
-        return {"per_env": self.per_env, "generalists": self.generalists, "at_least_one": self.at_least_one,
-                **self.values, "flagged": self.flagged}  # fmt: skip
+        return {
+            "per_env": self.per_env,
+            "generalists": self.generalists,
+            "at_least_one": self.at_least_one,
+            **self.values,
+            "flagged": self.flagged,
+        }
 
 
 def design_metrics(succ: np.ndarray, status: np.ndarray | None = None) -> DesignMetrics:

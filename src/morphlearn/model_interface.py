@@ -122,6 +122,7 @@ class Model(ABC):
 
     # -- the command line (``morphlearn design``) ---------------------------------------------------
     @abstractmethod
-    def evaluate_one(self, l1: tuple[float, float], l2: tuple[float, float], w: np.ndarray,
-                     a: argparse.Namespace) -> DesignResult:  # fmt: skip
+    def evaluate_one(
+        self, l1: tuple[float, float], l2: tuple[float, float], w: np.ndarray, a: argparse.Namespace
+    ) -> DesignResult:
         """One design's results for the CLI, from its options (already range-checked)."""

@@ -43,15 +43,22 @@ def resimulate(out_dir: str | Path, which: Iterable[str] = ("canonical", "best_M
     for d, res in zip(todo, results, strict=True):
         dm = metrics.design_metrics(metrics.success(res.first_time, res.min_dist, th), res.status)
         row = table[table.design == d].iloc[0]
-        stored = [*(int(row[f"n_{a}"]) for a in gridmod.ENV_ANGLES_DEG), int(row.generalists),
-                  int(row.at_least_one), int(row.flagged)]  # fmt: skip
+        stored = [
+            *(int(row[f"n_{a}"]) for a in gridmod.ENV_ANGLES_DEG),
+            int(row.generalists),
+            int(row.at_least_one),
+            int(row.flagged),
+        ]
         fresh = [*dm.per_env, dm.generalists, dm.at_least_one, dm.flagged]
         if stored != fresh:
-            problems.append(f"design {d}: metrics row {stored} (per env, generalists, at least one, "
-                            f"flagged) but re-simulated {fresh}")  # fmt: skip
+            problems.append(
+                f"design {d}: metrics row {stored} (per env, generalists, at least one, "
+                f"flagged) but re-simulated {fresh}"
+            )
         elif [row.M_L, row.M_CF] != [float(metrics.CSV_FLOAT_FORMAT % x) for x in (dm.M_L, dm.M_CF)]:
-            problems.append(f"design {d}: metrics row M_L, M_CF = {row.M_L}, {row.M_CF} but re-simulated "
-                            f"{dm.M_L}, {dm.M_CF}")  # fmt: skip
+            problems.append(
+                f"design {d}: metrics row M_L, M_CF = {row.M_L}, {row.M_CF} but re-simulated {dm.M_L}, {dm.M_CF}"
+            )
         one = store.read_design(merged, list(merged["design"].values).index(d))
         for v in store.VARS:
             a, b = one[v], getattr(res, v)
@@ -59,8 +66,7 @@ def resimulate(out_dir: str | Path, which: Iterable[str] = ("canonical", "best_M
             if a.dtype.kind == "f":  # NaN (never succeeded) equals NaN here
                 differ &= ~(np.isnan(a) & np.isnan(b))
             if differ.any():
-                problems.append(f"design {d}: stored {v} differs from the re-simulation in "
-                                f"{int(differ.sum())} cells")  # fmt: skip
+                problems.append(f"design {d}: stored {v} differs from the re-simulation in {int(differ.sum())} cells")
     return problems
 
 

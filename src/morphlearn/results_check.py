@@ -43,8 +43,9 @@ def recorded(path: Path) -> bool:
     return len(name) > 255 or (Path(".snakemake/metadata") / name).exists()
 
 
-def unrecorded_stale(results_dir: str | Path, model: str, science: dict[str, Any],
-                     shard_designs: list[np.ndarray]) -> Path | None:  # fmt: skip
+def unrecorded_stale(
+    results_dir: str | Path, model: str, science: dict[str, Any], shard_designs: list[np.ndarray]
+) -> Path | None:
     """An output of ``model`` made under another science config (or a shard holding other designs
     than this config's sharding) that Snakemake has no record of, else None.
 

@@ -29,43 +29,57 @@ def run_shard(s: Settings, model: str, shard: int, out: str | Path) -> None:
     if folder:
         results = design_cache.load(folder, designs, model=model, science=sci, m=len(w))
     todo = np.array([d for d in designs if int(d) not in results], dtype=np.int64)
-    print(f"shard {shard}: {len(designs)} designs, reused {len(results)}, to compute {len(todo)}"
-          + (f" (design cache {folder})" if folder else ""), flush=True)  # fmt: skip
+    print(
+        f"shard {shard}: {len(designs)} designs, reused {len(results)}, to compute {len(todo)}"
+        + (f" (design cache {folder})" if folder else ""),
+        flush=True,
+    )
 
     def finished(i: int, r: DesignResult) -> None:
         results[int(todo[i])] = r
         if folder:
-            design_cache.save(folder, int(todo[i]), r, model=model, grid=g, weights=w, science=sci,
-                              provenance=prov)  # fmt: skip
+            design_cache.save(folder, int(todo[i]), r, model=model, grid=g, weights=w, science=sci, provenance=prov)
         print(f"shard {shard}: design {int(todo[i])} computed ({i + 1}/{len(todo)})", flush=True)
 
     if len(todo):
         m.evaluate(s, todo, done=finished)
-    store.write_shard(out, model=model, grid=g, weights=w, designs=designs,
-                      results=[results[int(d)] for d in designs], science=sci, provenance=prov)  # fmt: skip
+    store.write_shard(
+        out,
+        model=model,
+        grid=g,
+        weights=w,
+        designs=designs,
+        results=[results[int(d)] for d in designs],
+        science=sci,
+        provenance=prov,
+    )
 
 
 def run_merge(s: Settings, model: str, shards: list[str], out: str | Path) -> None:
     m = models.get(model)
     sci = m.science(s)
     store.merge_shards(
-        shards, out, model=model, grid=s.grid.designs, weights=m.weights(s),
-        shard_designs=m.shard_designs(s), science=sci, mirror=m.mirror_derived(s),
+        shards,
+        out,
+        model=model,
+        grid=s.grid.designs,
+        weights=m.weights(s),
+        shard_designs=m.shard_designs(s),
+        science=sci,
+        mirror=m.mirror_derived(s),
         provenance=provenance.record(sci, shards),
-    )  # fmt: skip
+    )
 
 
 def run_metrics(model: str, th: metrics.Thresholds, merged: str | Path, out_csv: str | Path) -> None:
     """The metrics table of a merged store at thresholds ``th`` (a model's, or a scenario's)."""
     ds = store.open_merged(merged)
     table = metrics.metrics_table(ds, th)  # verifies every chunk before anything is written
-    subset = {"thresholds": th.__dict__, "model": model,
-              "merged_sha256_overall": ds.attrs["integrity"]["overall"]}  # fmt: skip
+    subset = {"thresholds": th.__dict__, "model": model, "merged_sha256_overall": ds.attrs["integrity"]["overall"]}
     write_csv_with_provenance(table, out_csv, subset, [merged])
 
 
-def write_csv_with_provenance(table: pd.DataFrame, out_csv: str | Path, subset: dict[str, Any],
-                              inputs: list) -> None:  # fmt: skip
+def write_csv_with_provenance(table: pd.DataFrame, out_csv: str | Path, subset: dict[str, Any], inputs: list) -> None:
     out_csv = Path(out_csv)
     with store.atomic_path(out_csv) as tmp:
         table.to_csv(tmp, index=False, float_format=metrics.CSV_FLOAT_FORMAT)

@@ -125,24 +125,33 @@ def read_file(path: str | Path) -> dict[str, dict[str, Any]]:
     out: dict[str, dict[str, Any]] = {}
     for name, over in data.items():
         if not isinstance(name, str) or not NAME_RE.match(name):
-            raise ScenarioError(f"{path}: scenario name {name!r} is invalid; allowed: letters, digits, "
-                                "'_', '.', '-', not starting with '_' or '.'")  # fmt: skip
+            raise ScenarioError(
+                f"{path}: scenario name {name!r} is invalid; allowed: letters, digits, "
+                "'_', '.', '-', not starting with '_' or '.'"
+            )
         over = {} if over is None else over
         if not isinstance(over, dict):
-            raise ScenarioError(f"{path}: scenario {name!r} must be a mapping of config overrides, "
-                                f"got {type(over).__name__}")  # fmt: skip
+            raise ScenarioError(
+                f"{path}: scenario {name!r} must be a mapping of config overrides, got {type(over).__name__}"
+            )
         bad = sorted(set(over) - set(OVERRIDABLE))
         if bad:
-            raise ScenarioError(f"{path}: scenario {name!r}: key{'s' if len(bad) > 1 else ''} {bad} "
-                                f"cannot be overridden; allowed: {list(OVERRIDABLE)}")  # fmt: skip
+            raise ScenarioError(
+                f"{path}: scenario {name!r}: key{'s' if len(bad) > 1 else ''} {bad} "
+                f"cannot be overridden; allowed: {list(OVERRIDABLE)}"
+            )
         for k in ("horizon", "success_radius"):
             if over.get("analysis", {}).get(k) is not None:
-                raise ScenarioError(f"{path}: scenario {name!r}: analysis.{k} is set by the planner; "
-                                    f"allowed: theory.{k} (derived from a stored simulation if it can be)")  # fmt: skip
+                raise ScenarioError(
+                    f"{path}: scenario {name!r}: analysis.{k} is set by the planner; "
+                    f"allowed: theory.{k} (derived from a stored simulation if it can be)"
+                )
         out[name] = over
     if BASE not in out:
-        raise ScenarioError(f"{path}: no scenario named {BASE!r}; allowed: a file that defines "
-                            f"'{BASE}' (the reference of the comparison, usually {{}})")  # fmt: skip
+        raise ScenarioError(
+            f"{path}: no scenario named {BASE!r}; allowed: a file that defines "
+            f"'{BASE}' (the reference of the comparison, usually {{}})"
+        )
     return out
 
 
@@ -156,8 +165,10 @@ def select(available: Iterable[str], wanted: str | Sequence[str]) -> list[str]:
         return avail
     unknown = [n for n in names if n not in avail]
     if unknown or not names:
-        raise ScenarioError(f"scenarios = {wanted!r}: unknown scenario{'s' if len(unknown) > 1 else ''} "
-                            f"{unknown}; allowed: 'all' or names from {avail}")  # fmt: skip
+        raise ScenarioError(
+            f"scenarios = {wanted!r}: unknown scenario{'s' if len(unknown) > 1 else ''} "
+            f"{unknown}; allowed: 'all' or names from {avail}"
+        )
     chosen = {BASE, *names}
     return [n for n in avail if n in chosen]
 
@@ -170,18 +181,26 @@ def expand(base: Settings, file_scenarios: dict[str, dict[str, Any]], names: Seq
     for name in names:
         over = file_scenarios[name]
         raw = cfgmod.deep_merge(dict(base.source), over)
-        raw = cfgmod.deep_merge(raw, {
-            "results_dir": f"{root}/{name}", "empirical": {"enabled": False},
-            "figures": {"enabled": False}, "bundle_dir": None, "render_only": False,
-            "scenarios": None,
-        })  # fmt: skip
+        raw = cfgmod.deep_merge(
+            raw,
+            {
+                "results_dir": f"{root}/{name}",
+                "empirical": {"enabled": False},
+                "figures": {"enabled": False},
+                "bundle_dir": None,
+                "render_only": False,
+                "scenarios": None,
+            },
+        )
         try:
             sc = settings.parse(raw)
         except cfgmod.ConfigError as e:
             raise ScenarioError(f"scenario {name!r}: {e}") from None
         if sc.analysis.horizon is not None or sc.analysis.success_radius is not None:
-            raise ScenarioError(f"scenario {name!r}: the base config sets analysis.horizon/success_radius; "
-                                "allowed: null in the base config of a scenario run")  # fmt: skip
+            raise ScenarioError(
+                f"scenario {name!r}: the base config sets analysis.horizon/success_radius; "
+                "allowed: null in the base config of a scenario run"
+            )
         out.append(Scenario(name, over, sc))
     return out
 
@@ -217,8 +236,7 @@ def _cover(needs: list[tuple[float, float]], base_need: tuple[float, float] | No
         for combo in itertools.combinations(cands, k):
             if not all(any(answers(s, n) for s in combo) for n in needs):
                 continue
-            key = (sum(t for t, _ in combo), base_need not in combo,
-                   -sum(n in combo for n in set(needs)), combo)  # fmt: skip
+            key = (sum(t for t, _ in combo), base_need not in combo, -sum(n in combo for n in set(needs)), combo)
             if best_key is None or key < best_key:
                 best, best_key = list(combo), key
         if best is not None:
@@ -254,11 +272,16 @@ def plan(scenarios: Sequence[Scenario], cache_results_dir: str) -> Plan:
             options = [(answers(c, (s.horizon, s.radius)), c) for c in chosen]
             rank = {HOW_DIRECT: 0, HOW_HORIZON: 1, HOW_RADIUS: 2}
             how, (ts, rs) = min(((h, c) for h, c in options if h), key=lambda x: (rank[x[0]], x[1]))
-            sim = settings.parse(cfgmod.deep_merge(dict(s.settings.source), {
-                "theory": {"horizon": ts, "success_radius": rs},
-                "analysis": {"horizon": None, "success_radius": None},
-                "results_dir": cache_results_dir,
-            }))  # fmt: skip
+            sim = settings.parse(
+                cfgmod.deep_merge(
+                    dict(s.settings.source),
+                    {
+                        "theory": {"horizon": ts, "success_radius": rs},
+                        "analysis": {"horizon": None, "success_radius": None},
+                        "results_dir": cache_results_dir,
+                    },
+                )
+            )
             sid = sim_id(sim)
             out.sims.setdefault(sid, sim)
             out.answers[s.name] = Answer(s.name, sid, how, s.horizon, s.radius)
@@ -267,16 +290,23 @@ def plan(scenarios: Sequence[Scenario], cache_results_dir: str) -> Plan:
 
 def plan_markdown(plan_: Plan, scenarios: Sequence[Scenario]) -> str:
     """The plan as a table: which simulation answers which scenario, and how."""
-    lines = ["| scenario | r | T | radius | simulation | simulated (r, T, radius) | answered by |",
-             "|---|---|---|---|---|---|---|"]  # fmt: skip
+    lines = [
+        "| scenario | r | T | radius | simulation | simulated (r, T, radius) | answered by |",
+        "|---|---|---|---|---|---|---|",
+    ]
     for s in scenarios:
         a = plan_.answers[s.name]
         th = plan_.sims[a.sim].models["theory"].params
-        lines.append(f"| {s.name} | {s.theory.r:.6g} | {s.horizon:g} | {s.radius:g} | `{a.sim}` | "
-                     f"({th.r:.6g}, {th.horizon:g}, {th.success_radius:g}) | {a.how} |")  # fmt: skip
+        lines.append(
+            f"| {s.name} | {s.theory.r:.6g} | {s.horizon:g} | {s.radius:g} | `{a.sim}` | "
+            f"({th.r:.6g}, {th.horizon:g}, {th.success_radius:g}) | {a.how} |"
+        )
     own = len({sim_id(s.settings) for s in scenarios})
-    lines += ["", f"{len(plan_.sims)} simulations for {len(scenarios)} scenarios "
-              f"({own} if every scenario were simulated as itself)."]  # fmt: skip
+    lines += [
+        "",
+        f"{len(plan_.sims)} simulations for {len(scenarios)} scenarios "
+        f"({own} if every scenario were simulated as itself).",
+    ]
     return "\n".join(lines) + "\n"
 
 
@@ -316,8 +346,7 @@ def compare(tables: dict[str, pd.DataFrame], top: int = 10, base: str = BASE) ->
             mine = set(ranked.design.head(top))
             theirs = set(metrics.rank_designs(ref.reset_index(), m).design.head(top))
             row[f"top{top}_overlap_{m}"] = len(mine & theirs)
-            row[f"paper_best_in_top{top}_{m}"] = bool(
-                metrics.find_row(ranked.head(top), PAPER_BEST_DESIGN) is not None)
+            row[f"paper_best_in_top{top}_{m}"] = bool(metrics.find_row(ranked.head(top), PAPER_BEST_DESIGN) is not None)
             tau = kendalltau(t[m].to_numpy(), ref[m].to_numpy()).statistic
             row[f"tau_{m}"] = float(tau)
         row["text_distance"] = text_distance(row["canonical_M_L"], row["best_M_L"])
@@ -340,9 +369,9 @@ SCAN_HORIZON_STEP = 50.0
 SCAN_RADII = (0.1, 0.15, 0.2, 0.3, 0.4, 0.5, 0.6, 0.8, 1.0)
 
 
-
-def derivable(sim_horizon: float, sim_radius: float, horizons: Iterable[float],
-              radii: Iterable[float]) -> list[tuple[float, float]]:  # fmt: skip
+def derivable(
+    sim_horizon: float, sim_radius: float, horizons: Iterable[float], radii: Iterable[float]
+) -> list[tuple[float, float]]:
     """The (horizon, radius) pairs of the given lists (plus the simulation's own) that a stored
     simulation answers without re-simulating."""
     pairs = {(float(t), float(r)) for t in [*horizons, sim_horizon] for r in [*radii, sim_radius]}
@@ -379,21 +408,33 @@ def threshold_scan(merged: str | Path, pairs: Sequence[tuple[float, float]] | No
     for t, r in pairs:
         if not answers((ts, rs), (t, r)):
             allowed = derivable(ts, rs, [t], [r]) or "none"
-            raise ValueError(f"(horizon {t}, radius {r}) is not answered by the simulation at "
-                             f"(horizon {ts}, radius {rs}); allowed: {allowed}")  # fmt: skip
+            raise ValueError(
+                f"(horizon {t}, radius {r}) is not answered by the simulation at "
+                f"(horizon {ts}, radius {rs}); allowed: {allowed}"
+            )
         ml = generalist_fraction(first_time, min_dist, metrics.Thresholds(t, r, ts, rs))
-        rows.append({"r": float(sci["r"]), "horizon": t, "radius": r, "canonical_M_L": float(ml[canon]),
-                     "best_M_L": float(ml.max()), "best_design": _label(coords.iloc[int(ml.argmax())]),
-                     "paper_best_M_L": float(ml[best.name]) if best is not None else math.nan,
-                     "text_distance": text_distance(float(ml[canon]), float(ml.max()))})  # fmt: skip
+        rows.append(
+            {
+                "r": float(sci["r"]),
+                "horizon": t,
+                "radius": r,
+                "canonical_M_L": float(ml[canon]),
+                "best_M_L": float(ml.max()),
+                "best_design": _label(coords.iloc[int(ml.argmax())]),
+                "paper_best_M_L": float(ml[best.name]) if best is not None else math.nan,
+                "text_distance": text_distance(float(ml[canon]), float(ml.max())),
+            }
+        )
     return pd.DataFrame(rows)
 
 
 # ---------------------------------------------------------------------------------------------
 # What the workflow's scenario rules do (their scripts only unpack and call)
 
-def run_metrics(th: metrics.Thresholds, merged: str | Path, out_csv: str | Path, record: dict[str, Any],
-                out_json: str | Path) -> None:  # fmt: skip
+
+def run_metrics(
+    th: metrics.Thresholds, merged: str | Path, out_csv: str | Path, record: dict[str, Any], out_json: str | Path
+) -> None:
     """A scenario's metrics from its simulation at its thresholds (Plan.thresholds), and its record
     (overrides, simulation, how it is answered)."""
     from morphlearn import rules, store
@@ -403,8 +444,15 @@ def run_metrics(th: metrics.Thresholds, merged: str | Path, out_csv: str | Path,
         tmp.write_text(json.dumps(record, indent=1, sort_keys=True) + "\n")
 
 
-def run_compare(tables: dict[str, str], merged: dict[str, str], top: int, out_csv: str | Path,
-                out_md: str | Path, out_scan: str | Path, plan_md: str) -> None:  # fmt: skip
+def run_compare(
+    tables: dict[str, str],
+    merged: dict[str, str],
+    top: int,
+    out_csv: str | Path,
+    out_md: str | Path,
+    out_scan: str | Path,
+    plan_md: str,
+) -> None:
     """The comparison table (compare), and the threshold scan of every simulation for the
     paper's text values (threshold_scan), closest first."""
     from morphlearn import store
@@ -421,12 +469,19 @@ def run_compare(tables: dict[str, str], merged: dict[str, str], top: int, out_cs
 
 
 def comparison_markdown(comp: pd.DataFrame, scan: pd.DataFrame, top: int, plan_md: str) -> str:
-    lines = ["# Scenarios", "", "## How each scenario is answered", "", plan_md.strip(), "",
-             f"## Against the base scenario (top {top} by each metric; tau: Kendall's tau-b of all "
-             "designs' values)", "",
-             f"| scenario | canonical M_L (rank) | paper's best M_L (rank) | in top {top} | best by M_L | "
-             f"best by M_CF | top-{top} overlap M_L / M_CF | tau M_L | tau M_CF |",
-             "|---|---|---|---|---|---|---|---|---|"]  # fmt: skip
+    lines = [
+        "# Scenarios",
+        "",
+        "## How each scenario is answered",
+        "",
+        plan_md.strip(),
+        "",
+        f"## Against the base scenario (top {top} by each metric; tau: Kendall's tau-b of all designs' values)",
+        "",
+        f"| scenario | canonical M_L (rank) | paper's best M_L (rank) | in top {top} | best by M_L | "
+        f"best by M_CF | top-{top} overlap M_L / M_CF | tau M_L | tau M_CF |",
+        "|---|---|---|---|---|---|---|---|---|",
+    ]
     for _, r in comp.iterrows():
         lines.append(
             f"| {r.scenario} | {r.canonical_M_L:.4f} ({r.canonical_rank_M_L}) | "
@@ -434,16 +489,23 @@ def comparison_markdown(comp: pd.DataFrame, scan: pd.DataFrame, top: int, plan_m
             f"{'yes' if r[f'paper_best_in_top{top}_M_L'] else 'no'} | {r.best_M_L_design} {r.best_M_L:.4f} | "
             f"{r.best_M_CF_design} {r.best_M_CF:.4f} | {r[f'top{top}_overlap_M_L']} / {r[f'top{top}_overlap_M_CF']} | "
             f"{r.tau_M_L:.3f} | {r.tau_M_CF:.3f} |"
-        )  # fmt: skip
+        )
     best = scan.head(10)
-    lines += ["", f"## The paper's text values (canonical M_L {TEXT_CANONICAL_M_L}, best M_L {TEXT_BEST_M_L})",
-              "", "Every (horizon, radius) each stored simulation answers without re-simulating "
-              f"(horizons in steps of {SCAN_HORIZON_STEP:g}, radii {list(SCAN_RADII)}), closest first "
-              "(distance: norm of the two relative errors).", "",
-              "| r | T | radius | canonical M_L | best M_L (design) | paper's best M_L | distance |",
-              "|---|---|---|---|---|---|---|"]  # fmt: skip
+    lines += [
+        "",
+        f"## The paper's text values (canonical M_L {TEXT_CANONICAL_M_L}, best M_L {TEXT_BEST_M_L})",
+        "",
+        "Every (horizon, radius) each stored simulation answers without re-simulating "
+        f"(horizons in steps of {SCAN_HORIZON_STEP:g}, radii {list(SCAN_RADII)}), closest first "
+        "(distance: norm of the two relative errors).",
+        "",
+        "| r | T | radius | canonical M_L | best M_L (design) | paper's best M_L | distance |",
+        "|---|---|---|---|---|---|---|",
+    ]
     for _, r in best.iterrows():
-        lines.append(f"| {r.r:.6g} | {r.horizon:g} | {r.radius:g} | {r.canonical_M_L:.4f} | "
-                     f"{r.best_M_L:.4f} {r.best_design} | {r.paper_best_M_L:.4f} | "
-                     f"{r.text_distance:.3f} |")  # fmt: skip
+        lines.append(
+            f"| {r.r:.6g} | {r.horizon:g} | {r.radius:g} | {r.canonical_M_L:.4f} | "
+            f"{r.best_M_L:.4f} {r.best_design} | {r.paper_best_M_L:.4f} | "
+            f"{r.text_distance:.3f} |"
+        )
     return "\n".join(lines) + "\n"

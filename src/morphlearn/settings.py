@@ -140,8 +140,9 @@ def parse(cfg: Mapping[str, Any]) -> Settings:
         g = grid.designs
         n_run = min(len(g.representatives()), learners.max_designs or g.size)
         if learners.shards > n_run:
-            raise cfgmod.ConfigError(f"learners.shards = {learners.shards} exceeds the {n_run} designs the "
-                                     f"learners run; allowed: 1..{n_run}")  # fmt: skip
+            raise cfgmod.ConfigError(
+                f"learners.shards = {learners.shards} exceeds the {n_run} designs the learners run; allowed: 1..{n_run}"
+            )
     return Settings(
         source=MappingProxyType(v),
         results_dir=v["results_dir"],

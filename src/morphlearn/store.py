@@ -170,8 +170,10 @@ def verify_shard(shard: Shard, *, model: str, science: dict[str, Any], designs: 
     if shard.attrs.get("science_sha256") != _digest_json(science):
         raise ShardError(f"shard {p}: made with a different science config (foreign shard)")
     if not np.array_equal(shard.designs, designs):
-        raise ShardError(f"shard {p}: holds designs {shard.designs[:5].tolist()}..., expected "
-                         f"{designs[:5].tolist()}... ({len(designs)} designs)")  # fmt: skip
+        raise ShardError(
+            f"shard {p}: holds designs {shard.designs[:5].tolist()}..., expected "
+            f"{designs[:5].tolist()}... ({len(designs)} designs)"
+        )
     want = (len(designs), 4, m, m)
     for k in VARS:
         if shard.arrays[k].shape != want:
@@ -231,8 +233,7 @@ def merge_shards(
         "provenance_json": json.dumps(provenance | {"shards": shards_prov}, sort_keys=True),
     }
     with atomic_path(out) as tmp:
-        _write_store(tmp, all_designs, grid.coords(all_designs), np.asarray(weights, np.float64),
-                     chunks(), attrs)  # fmt: skip
+        _write_store(tmp, all_designs, grid.coords(all_designs), np.asarray(weights, np.float64), chunks(), attrs)
 
 
 def shard_provenance(paths: list[Path], merging_commit: str | None) -> dict[str, Any]:
@@ -245,8 +246,11 @@ def shard_provenance(paths: list[Path], merging_commit: str | None) -> dict[str,
     for p in paths:
         with xr.open_dataset(p, engine="scipy", mask_and_scale=False) as ds:  # attributes only
             prov = json.loads(ds.attrs.get("provenance_json", "{}"))
-        for d, k in ((commits, prov.get("git_commit", "unknown")), (backends, prov.get("backend", "cpu")),
-                     (devices, prov.get("device", "cpu (not recorded)"))):  # fmt: skip
+        for d, k in (
+            (commits, prov.get("git_commit", "unknown")),
+            (backends, prov.get("backend", "cpu")),
+            (devices, prov.get("device", "cpu (not recorded)")),
+        ):
             d[k] = d.get(k, 0) + 1
     out = {"git_commits": commits, "backends": backends, "devices": devices}
     notes = []
@@ -255,8 +259,9 @@ def shard_provenance(paths: list[Path], merging_commit: str | None) -> dict[str,
     elif merging_commit and set(commits) != {merging_commit}:
         notes.append(f"shards were made at commit {next(iter(commits))}, merged at {merging_commit}")
     if len(backends) > 1:
-        notes.append(f"shards come from {len(backends)} backends {backends} (CPU and CUDA may differ "
-                     "in boundary cases)")  # fmt: skip
+        notes.append(
+            f"shards come from {len(backends)} backends {backends} (CPU and CUDA may differ in boundary cases)"
+        )
     if notes:
         msg = "merge: " + "; ".join(notes) + " (recorded in the provenance)"
         warnings.warn(msg, stacklevel=2)
@@ -311,8 +316,13 @@ def _write_store(
     if missing:
         raise ShardError(f"merge: {missing} designs missing from the shards")
     coord_digests = {c: chunk_digest(v) for c, v in coord_values.items()}
-    integrity = {"algorithm": "sha256", "of": DIGEST_OF, "chunks": digests, "coords": coord_digests,
-                 "overall": overall_digest(digests, coord_digests)}  # fmt: skip
+    integrity = {
+        "algorithm": "sha256",
+        "of": DIGEST_OF,
+        "chunks": digests,
+        "coords": coord_digests,
+        "overall": overall_digest(digests, coord_digests),
+    }
     root.attrs.update({**attrs, "integrity": integrity})
     return integrity
 
@@ -337,8 +347,10 @@ def write_subset(src_merged_path: str | Path, designs: Iterable[int], out_path: 
             yield j, read_design(ds, i)  # verified against the source's digests
 
     attrs = {k: v for k, v in ds.attrs.items() if k not in ("integrity", "subset_of", "subset_source_designs")}
-    attrs |= {"subset_of": src_int["overall"],
-              "subset_source_designs": int(ds.attrs.get("subset_source_designs", len(all_designs)))}  # fmt: skip
+    attrs |= {
+        "subset_of": src_int["overall"],
+        "subset_source_designs": int(ds.attrs.get("subset_source_designs", len(all_designs))),
+    }
     with atomic_path(out_path) as tmp:
         integ = _write_store(tmp, want, coords, np.asarray(ds["w1"].values, np.float64), chunks(), attrs)
         for k in VARS:

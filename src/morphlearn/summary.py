@@ -16,10 +16,13 @@ from morphlearn.settings import Settings
 
 def _row(r: pd.Series) -> dict[str, Any]:
     return {
-        "l1": [r.l1x, r.l1y], "l2": [r.l2x, r.l2y], "generalists": int(r.generalists),
-        "at_least_one": int(r.at_least_one), **{m: float(r[m]) for m in metrics.METRICS},
+        "l1": [r.l1x, r.l1y],
+        "l2": [r.l2x, r.l2y],
+        "generalists": int(r.generalists),
+        "at_least_one": int(r.at_least_one),
+        **{m: float(r[m]) for m in metrics.METRICS},
         "flagged": int(r.flagged),
-    }  # fmt: skip
+    }
 
 
 def summarise(table: pd.DataFrame, top: int) -> dict[str, Any]:
@@ -51,14 +54,18 @@ def run_summary(s: Settings, tables: dict[str, str], out_json: str | Path, out_m
 
 def _fmt(d: dict[str, Any]) -> str:
     vals = " | ".join(f"{d[m]:{spec.fmt}}" for m, spec in metrics.METRICS.items())
-    return (f"| ({d['l1'][0]:g}, {d['l1'][1]:g}) | ({d['l2'][0]:g}, {d['l2'][1]:g}) | "
-            f"{d['generalists']} | {d['at_least_one']} | {vals} | {d['flagged']} |")  # fmt: skip
+    return (
+        f"| ({d['l1'][0]:g}, {d['l1'][1]:g}) | ({d['l2'][0]:g}, {d['l2'][1]:g}) | "
+        f"{d['generalists']} | {d['at_least_one']} | {vals} | {d['flagged']} |"
+    )
 
 
 def summary_markdown(summary: dict[str, Any]) -> str:
     names = list(metrics.METRICS)
-    head = (f"| l1 | l2 | generalists | at least one | {' | '.join(names)} | flagged |\n"
-            f"|---|---|---|---|{'---|' * len(names)}---|")  # fmt: skip
+    head = (
+        f"| l1 | l2 | generalists | at least one | {' | '.join(names)} | flagged |\n"
+        f"|---|---|---|---|{'---|' * len(names)}---|"
+    )
     lines = [
         "# Summary",
         "",
@@ -76,6 +83,5 @@ def summary_markdown(summary: dict[str, Any]) -> str:
             lines += [f"Canonical design: rank {ranks}.", "", head, _fmt(c), ""]
         for m in names:
             lines += [f"Top designs by {m}:", "", head, *map(_fmt, one[f"top_{m}"]), ""]
-        lines += [f"Designs with M_CF = 1: {one['M_CF_eq_1']}; best M_L among them: "
-                  f"{one['best_M_L_among_M_CF_eq_1']}"]  # fmt: skip
+        lines += [f"Designs with M_CF = 1: {one['M_CF_eq_1']}; best M_L among them: {one['best_M_L_among_M_CF_eq_1']}"]
     return "\n".join(lines) + "\n"

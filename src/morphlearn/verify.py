@@ -103,8 +103,12 @@ class Report:
 
     @property
     def ok(self) -> bool:
-        return (self.disagree_unexplained == 0 and self.first_time_agree == self.both_succeed
-                and self.lost_successes == 0 and self.inconsistent == 0)  # fmt: skip
+        return (
+            self.disagree_unexplained == 0
+            and self.first_time_agree == self.both_succeed
+            and self.lost_successes == 0
+            and self.inconsistent == 0
+        )
 
     def as_dict(self) -> dict[str, Any]:
         return asdict(self) | {"ok": self.ok}
@@ -134,8 +138,13 @@ def check_consistency(ds: Any, radius: float, horizon: float, rep: Report) -> No
         has_t = ~np.isnan(ft)
         lost = ~has_t & (md < radius)  # NaN min_dist compares False: counted below
         with np.errstate(invalid="ignore"):
-            bad = ((st < 0) | (st > 3) | ~np.isfinite(md) | (md < 0)
-                   | (has_t & ((ft < 0) | (ft > horizon) | (md > radius))))  # fmt: skip
+            bad = (
+                (st < 0)
+                | (st > 3)
+                | ~np.isfinite(md)
+                | (md < 0)
+                | (has_t & ((ft < 0) | (ft > horizon) | (md > radius)))
+            )
         rep.lost_successes += int(lost.sum())
         rep.inconsistent += int(bad.sum())
         for kind, mask in (("min_dist below the radius but no first_time", lost), ("inconsistent", bad)):
@@ -157,8 +166,11 @@ def read_parameters(ds: Any, path: str | Path) -> dict[str, Any]:
     if model != REFERENCE:  # the scipy reference solves the ODE of the reference model
         raise VerifyError(f"--merged {path}: model {model!r}; allowed: {REFERENCE!r} (the reference is the ODE)")
     th = sci["theory"]
-    return {"model": REFERENCE, **{k: th[k] for k in ("r", "horizon", "success_radius", "integrator")},
-            **{k: th[k] for k in ("rtol", "atol", "dt") if k in th}}  # fmt: skip
+    return {
+        "model": REFERENCE,
+        **{k: th[k] for k in ("r", "horizon", "success_radius", "integrator")},
+        **{k: th[k] for k in ("rtol", "atol", "dt") if k in th},
+    }
 
 
 def _reference(args: tuple) -> tuple[float, float, int]:
@@ -188,14 +200,19 @@ def sample_cells(ds: Any, samples: int, seed: int) -> list[Cell]:
         block = {k: ds[k][int(d)].values for k in ("first_time", "min_dist", "status")}
         for j in np.flatnonzero(di == d):
             e, a, b = int(ei[j]), int(ai[j]), int(bi[j])
-            cells.append(Cell(
-                design=int(designs[d]), env=int(envs[e]), w1=float(w1s[a]), w2=float(w2s[b]),
-                l1=(float(coords["l1x"][d]), float(coords["l1y"][d])),
-                l2=(float(coords["l2x"][d]), float(coords["l2y"][d])),
-                stored_time=float(block["first_time"][e, a, b]),
-                stored_dist=float(block["min_dist"][e, a, b]),
-                stored_status=int(block["status"][e, a, b]),
-            ))  # fmt: skip
+            cells.append(
+                Cell(
+                    design=int(designs[d]),
+                    env=int(envs[e]),
+                    w1=float(w1s[a]),
+                    w2=float(w2s[b]),
+                    l1=(float(coords["l1x"][d]), float(coords["l1y"][d])),
+                    l2=(float(coords["l2x"][d]), float(coords["l2y"][d])),
+                    stored_time=float(block["first_time"][e, a, b]),
+                    stored_dist=float(block["min_dist"][e, a, b]),
+                    stored_status=int(block["status"][e, a, b]),
+                )
+            )
     return cells
 
 
@@ -229,8 +246,9 @@ def verify(
     cells = sample_cells(ds, samples, seed)
     starts = gridmod.env_starts(par["r"])
     env_index = {a: i for i, a in enumerate(gridmod.ENV_ANGLES_DEG)}
-    jobs = [(tuple(starts[env_index[c.env]]), c.l1, c.l2, c.w1, c.w2, par["success_radius"], par["horizon"])
-            for c in cells]  # fmt: skip
+    jobs = [
+        (tuple(starts[env_index[c.env]]), c.l1, c.l2, c.w1, c.w2, par["success_radius"], par["horizon"]) for c in cells
+    ]
     if workers == 1:
         refs = [_reference(j) for j in jobs]
     else:  # spawn, not fork: forking after numba's threads started can deadlock the children
@@ -282,9 +300,7 @@ def format_report(rep: Report) -> str:
         )
     else:
         lines.append("first-success time: no sampled cell where both succeed")
-    lines.append(
-        f"flagged (stopped) trajectories: stored {rep.stored_flagged}, reference {rep.reference_stopped}"
-    )
+    lines.append(f"flagged (stopped) trajectories: stored {rep.stored_flagged}, reference {rep.reference_stopped}")
     lines.append(
         f"whole store ({rep.cells_checked} cells, every chunk's digest verified): {rep.lost_successes} "
         f"lost successes (min_dist below the radius but no first_time), {rep.inconsistent} other "

@@ -9,6 +9,5 @@ from _entry import setup
 s = setup(snakemake)  # noqa: F821
 from morphlearn.learners import experiment  # noqa: E402
 
-out = snakemake.output  # noqa: F821
-experiment.run_analysis(s, list(snakemake.input.shards), snakemake.input.metrics,  # noqa: F821
-                        out.runs, out.correlations, out.md)  # fmt: skip
+inp, out = snakemake.input, snakemake.output  # noqa: F821
+experiment.run_analysis(s, list(inp.shards), inp.metrics, out.runs, out.correlations, out.md)

@@ -21,8 +21,7 @@ out = snakemake.output  # noqa: F821
 with store.atomic_path(out.pareto) as tmp:
     pareto.to_csv(tmp, index=False)  # full precision: a row is a body (the dynamics are sensitive)
 with store.atomic_path(out.chosen) as tmp:
-    tmp.write_text(optimise.morphology_yaml(pareto, chosen, budget_evals=budget["evaluations"],
-                                            seed=budget["seed"]))  # fmt: skip
+    tmp.write_text(optimise.morphology_yaml(pareto, chosen, budget_evals=budget["evaluations"], seed=budget["seed"]))
 fig, ax = plt.subplots(figsize=(5, 4), dpi=120)
 front = pareto[pareto["pareto"]]
 ax.plot(front["f_actuation"], front["f_distance"], "o-", label="Pareto set")

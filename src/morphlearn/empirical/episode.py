@@ -94,8 +94,16 @@ class EpisodeRunner:
         return b
 
     def run(
-        self, l1: Point, l2: Point, w1: float, w2: float, env: int, *, stop_at_contact: bool = True,
-        bound: ReachBound | None = None, stop_hopeless: bool = True,
+        self,
+        l1: Point,
+        l2: Point,
+        w1: float,
+        w2: float,
+        env: int,
+        *,
+        stop_at_contact: bool = True,
+        bound: ReachBound | None = None,
+        stop_hopeless: bool = True,
     ) -> Episode:
         """One episode of design ``(l1, l2)`` with weights ``(w1, w2)`` in environment ``env``.
 

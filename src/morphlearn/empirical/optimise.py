@@ -260,16 +260,14 @@ def morphology_yaml(
 
     row = pareto[pareto["chosen"]].iloc[0]
     reached = ", ".join(
-        f"{a} deg: {row[f'time_{a}']:.2f} s" if row[f"success_{a}"] else f"{a} deg: missed"
-        for a in ENV_ANGLES_DEG
+        f"{a} deg: {row[f'time_{a}']:.2f} s" if row[f"success_{a}"] else f"{a} deg: missed" for a in ENV_ANGLES_DEG
     )
     extra = ", ".join(f"{k}={v}" for k, v in settings.items())
     header = [
         "Base morphology of the empirical (pybullet) model.",
         "Produced by morphlearn.empirical.optimise.optimise (NSGA-II, pymoo):",
         f"  budget_evals={budget_evals}, seed={seed}" + (f", {extra}" if extra else ""),
-        f"  {pareto.attrs.get('n_evals', '?')} bodies evaluated; Pareto set of "
-        f"{int(pareto['pareto'].sum())}.",
+        f"  {pareto.attrs.get('n_evals', '?')} bodies evaluated; Pareto set of {int(pareto['pareto'].sum())}.",
         "Decision variables: body/wheel/castor mass, wheel radius, max speed, max torque.",
         "Objectives (canonical sensors, w = (1, 1)): summed min centre-to-light distance over",
         "  the 4 environments; actuation = max_torque + max_speed. Constraint: tilt <= 30 deg",

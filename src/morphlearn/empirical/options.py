@@ -32,9 +32,11 @@ class SweepOptions:
     @classmethod
     def from_config(cls, emp: dict[str, Any]) -> SweepOptions:
         """From the validated ``empirical`` config section."""
-        return cls(early_stop=bool(emp.get("early_stop", False)),
-                   adaptive_weights=bool(emp.get("adaptive_weights", False)),
-                   near=float(emp.get("adaptive_near", DEFAULT_NEAR)))  # fmt: skip
+        return cls(
+            early_stop=bool(emp.get("early_stop", False)),
+            adaptive_weights=bool(emp.get("adaptive_weights", False)),
+            near=float(emp.get("adaptive_near", DEFAULT_NEAR)),
+        )
 
     def science(self) -> dict[str, Any]:
         """The science-record entries of the levers that are on (none when all are off, so the

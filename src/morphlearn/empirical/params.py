@@ -119,8 +119,9 @@ def load_params(path: str | Path) -> EmpiricalParams:
         raise ValueError(f"cannot read ({e.strerror})") from None
     except yaml.YAMLError as e:
         mark = getattr(e, "problem_mark", None)
-        raise ValueError("malformed YAML" + (f" at line {mark.line + 1}, column {mark.column + 1}"
-                                             if mark else "")) from None  # fmt: skip
+        raise ValueError(
+            "malformed YAML" + (f" at line {mark.line + 1}, column {mark.column + 1}" if mark else "")
+        ) from None
     if not isinstance(data, dict):
         raise ValueError("expected a mapping of empirical parameters")
     try:

@@ -101,26 +101,36 @@ class Physics(Model):
                 **options.science(),
             }
         return PhysicsSettings(
-            enabled=enabled, morphology=sec.get("morphology", DEFAULT_MORPHOLOGY), params=params,
-            weights=sec.get("weights", 11), held=tuple(held), simulated=tuple(simulated),
-            mirror_derive=mirror_derive, results_from=results_from,
-            bundle_thresholds=MappingProxyType(bundle_th) if bundle_th else None, options=options,
-            shards=sec.get("shards", 1), optimise=MappingProxyType(dict(sec.get("optimise", {}))),
+            enabled=enabled,
+            morphology=sec.get("morphology", DEFAULT_MORPHOLOGY),
+            params=params,
+            weights=sec.get("weights", 11),
+            held=tuple(held),
+            simulated=tuple(simulated),
+            mirror_derive=mirror_derive,
+            results_from=results_from,
+            bundle_thresholds=MappingProxyType(bundle_th) if bundle_th else None,
+            options=options,
+            shards=sec.get("shards", 1),
+            optimise=MappingProxyType(dict(sec.get("optimise", {}))),
             science=MappingProxyType(science) if science else None,
-        )  # fmt: skip
+        )
 
     def _read_body(self, path: str) -> EmpiricalParams:
         try:
             return load_params(path)
         except ValueError as e:
-            raise ConfigError(f"{self.name}.morphology = {path!r}: {e}; allowed: a YAML file of body "
-                              "parameters") from None  # fmt: skip
+            raise ConfigError(
+                f"{self.name}.morphology = {path!r}: {e}; allowed: a YAML file of body parameters"
+            ) from None
 
     def _check_params(self, overrides: Mapping[str, Any]) -> None:
         for k in overrides:
             if k not in EmpiricalParams.__dataclass_fields__:
-                raise ConfigError(f"unknown key ['{k}'] under '{self.name}.params'; "
-                                  f"allowed: {sorted(EmpiricalParams.__dataclass_fields__)}")  # fmt: skip
+                raise ConfigError(
+                    f"unknown key ['{k}'] under '{self.name}.params'; "
+                    f"allowed: {sorted(EmpiricalParams.__dataclass_fields__)}"
+                )
         try:
             EmpiricalParams.from_mapping(overrides)
         except ValueError as e:
@@ -145,11 +155,15 @@ class Physics(Model):
 
     def _check_designs(self, sec: Mapping[str, Any], held: list[int], simulated: list[int]) -> None:
         if sec.get("mirror_derive") and sec.get("designs") != "all" and not sec.get("include_mirrors", True):
-            raise ConfigError(f"{self.name}.mirror_derive = true needs the mirror images in the results; "
-                              f"allowed: {self.name}.include_mirrors = true or {self.name}.designs = all")  # fmt: skip
+            raise ConfigError(
+                f"{self.name}.mirror_derive = true needs the mirror images in the results; "
+                f"allowed: {self.name}.include_mirrors = true or {self.name}.designs = all"
+            )
         if sec["shards"] > len(simulated):
-            raise ConfigError(f"{self.name}.shards = {sec['shards']} exceeds the {len(simulated)} designs "
-                              f"simulated; allowed: 1..{len(simulated)}")  # fmt: skip
+            raise ConfigError(
+                f"{self.name}.shards = {sec['shards']} exceeds the {len(simulated)} designs "
+                f"simulated; allowed: 1..{len(simulated)}"
+            )
 
     def _check_results_from(self, path: str, n: int) -> dict[str, float]:
         """A bundle to read the results from: present, on this config's grid (its checksums are
@@ -158,12 +172,17 @@ class Physics(Model):
         from morphlearn import bundle
 
         key = f"{self.name}.results_from"
-        need = [Path(path) / "bundle.json", Path(path) / self.name / "metrics.csv",
-                Path(path) / self.name / "merged.zarr"]  # fmt: skip
+        need = [
+            Path(path) / "bundle.json",
+            Path(path) / self.name / "metrics.csv",
+            Path(path) / self.name / "merged.zarr",
+        ]
         missing = [str(p) for p in need if not p.exists()]
         if missing:
-            raise ConfigError(f"{key} = {path!r}: {missing[0]} is missing; allowed: a results bundle "
-                              f"with {self.name} results (e.g. results/survey), or null to simulate")  # fmt: skip
+            raise ConfigError(
+                f"{key} = {path!r}: {missing[0]} is missing; allowed: a results bundle "
+                f"with {self.name} results (e.g. results/survey), or null to simulate"
+            )
         try:
             positions = bundle.positions_of(Path(path) / self.name)
             prov = json.loads((Path(path) / self.name / "metrics.provenance.json").read_text())
@@ -171,8 +190,10 @@ class Physics(Model):
         except Exception as e:  # a damaged store: say which and why, in one line
             raise ConfigError(f"{key} = {path!r}: unreadable {self.name} results ({e})") from None
         if positions != n:
-            raise ConfigError(f"{key} = {path!r} holds results on the {positions}-point grid; "
-                              f"allowed: a bundle on grid.positions_per_axis = {n}")  # fmt: skip
+            raise ConfigError(
+                f"{key} = {path!r} holds results on the {positions}-point grid; "
+                f"allowed: a bundle on grid.positions_per_axis = {n}"
+            )
         return thresholds
 
     def results_from(self, s: Settings) -> str | None:
@@ -237,19 +258,23 @@ class Physics(Model):
 
     def describe(self, science: Mapping[str, Any], n_designs: int, m: int) -> str:
         pr = science.get("params", {})
-        how = ("one of each mirror pair simulated, the other derived" if science.get("mirror_derive")
-               else "simulated")  # fmt: skip
+        how = "one of each mirror pair simulated, the other derived" if science.get("mirror_derive") else "simulated"
         if ad := science.get("adaptive_weights"):
-            how += (f", weight grid refined adaptively around successes and near misses (within "
-                    f"{ad.get('near')} contact distances; cells not simulated count as failures; "
-                    "measured miss rate in docs/empirical_levers.md)")  # fmt: skip
-        return (f"{n_designs} designs {how} on the {science.get('positions_per_axis')}-point grid, "
-                f"{m} weights per synapse; light distance {pr.get('light_distance', float('nan')):.4g}, "
-                f"{pr.get('steps')} steps of dt = {pr.get('dt')}, success = touching the light; body "
-                f"from the committed morphology (wheel radius {pr.get('wheel_radius', float('nan')):.4g})")  # fmt: skip
+            how += (
+                f", weight grid refined adaptively around successes and near misses (within "
+                f"{ad.get('near')} contact distances; cells not simulated count as failures; "
+                "measured miss rate in docs/empirical_levers.md)"
+            )
+        return (
+            f"{n_designs} designs {how} on the {science.get('positions_per_axis')}-point grid, "
+            f"{m} weights per synapse; light distance {pr.get('light_distance', float('nan')):.4g}, "
+            f"{pr.get('steps')} steps of dt = {pr.get('dt')}, success = touching the light; body "
+            f"from the committed morphology (wheel radius {pr.get('wheel_radius', float('nan')):.4g})"
+        )
 
-    def evaluate_one(self, l1: tuple[float, float], l2: tuple[float, float], w: np.ndarray,
-                     a: argparse.Namespace) -> DesignResult:  # fmt: skip
+    def evaluate_one(
+        self, l1: tuple[float, float], l2: tuple[float, float], w: np.ndarray, a: argparse.Namespace
+    ) -> DesignResult:
         from morphlearn.cli import UsageError, c_stdout_to_stderr
 
         path = a.morphology or DEFAULT_MORPHOLOGY

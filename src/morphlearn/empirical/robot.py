@@ -113,9 +113,7 @@ def add_robot(client: int, params: EmpiricalParams, origin: tuple[float, float] 
 def add_light(client: int, params: EmpiricalParams, xy: tuple[float, float]) -> int:
     """A static sphere resting on the floor at ``xy``."""
     shape = pb.createCollisionShape(pb.GEOM_SPHERE, radius=params.light_radius, physicsClientId=client)
-    return pb.createMultiBody(
-        0, shape, basePosition=[xy[0], xy[1], params.light_radius], physicsClientId=client
-    )
+    return pb.createMultiBody(0, shape, basePosition=[xy[0], xy[1], params.light_radius], physicsClientId=client)
 
 
 def populate(client: int, params: EmpiricalParams, light_xy: tuple[float, float]) -> World:

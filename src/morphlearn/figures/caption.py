@@ -37,15 +37,17 @@ def science_summary(res: ModelResults) -> str:
 
 
 def resolution_note(res: ModelResults) -> str:
-    """"paper resolution", or how this run's grid and design set differ from the paper's."""
+    """ "paper resolution", or how this run's grid and design set differ from the paper's."""
     n = res.positions_per_axis
     m = len(res.weights)
     full_designs = res.n_designs == (n or 0) ** 4
     if n == PAPER_POSITIONS and m == PAPER_WEIGHTS and full_designs:
         return "paper resolution"
     subset = "" if full_designs else f", {res.n_designs} of {(n or 0) ** 4} designs"
-    return (f"reduced resolution ({n} positions per axis, {m} weights{subset}; the paper used "
-            f"{PAPER_POSITIONS} and {PAPER_WEIGHTS}, all designs)")  # fmt: skip
+    return (
+        f"reduced resolution ({n} positions per axis, {m} weights{subset}; the paper used "
+        f"{PAPER_POSITIONS} and {PAPER_WEIGHTS}, all designs)"
+    )
 
 
 def provenance_md(results: Sequence[ModelResults | None], extra: str = "") -> str:
@@ -80,5 +82,4 @@ def design_text(row: pd.Series) -> str:
 
 def metric_line(row: pd.Series, n_controllers: int, sep: str = ", ") -> str:
     """``M_L = ... (k of n controllers), M_CF = ...`` of a metrics-table row."""
-    return (f"M_L = {row.M_L:.4g} ({int(row.generalists)} of {n_controllers} controllers){sep}"
-            f"M_CF = {row.M_CF:.4g}")  # fmt: skip
+    return f"M_L = {row.M_L:.4g} ({int(row.generalists)} of {n_controllers} controllers){sep}M_CF = {row.M_CF:.4g}"

@@ -107,8 +107,7 @@ class ModelResults:
 
     def row(self, l1: Sequence[float], l2: Sequence[float]) -> pd.Series | None:
         t = self.table
-        sel = (np.isclose(t.l1x, l1[0]) & np.isclose(t.l1y, l1[1]) & np.isclose(t.l2x, l2[0])
-               & np.isclose(t.l2y, l2[1]))  # fmt: skip
+        sel = np.isclose(t.l1x, l1[0]) & np.isclose(t.l1y, l1[1]) & np.isclose(t.l2x, l2[0]) & np.isclose(t.l2y, l2[1])
         return t[sel].iloc[0] if sel.any() else None
 
     def success(self, pos: int) -> np.ndarray:
@@ -140,8 +139,9 @@ class ModelResults:
         return self.table[np.isclose(self.table[by], row[by])]
 
 
-def load_results(results_dir: str | Path, model: str, thresholds: dict[str, float] | None = None
-                 ) -> ModelResults | None:  # fmt: skip
+def load_results(
+    results_dir: str | Path, model: str, thresholds: dict[str, float] | None = None
+) -> ModelResults | None:
     """A model's results, or None when this run has none (model disabled or not run)."""
     base = Path(results_dir) / model
     table_path, merged_path = base / "metrics.csv", base / "merged.zarr"
@@ -149,22 +149,22 @@ def load_results(results_dir: str | Path, model: str, thresholds: dict[str, floa
         return None
     table = pd.read_csv(table_path)
     ds = store.open_merged(merged_path)  # verifies the coordinates; read_design the chunks
-    return ModelResults(model, table, ds, thresholds_from(thresholds),
-                        {"metrics": str(table_path), "merged": str(merged_path)})  # fmt: skip
+    return ModelResults(
+        model, table, ds, thresholds_from(thresholds), {"metrics": str(table_path), "merged": str(merged_path)}
+    )
 
 
-def require_results(results_dir: str | Path, model: str, thresholds: dict[str, float] | None = None
-                    ) -> ModelResults:  # fmt: skip
+def require_results(results_dir: str | Path, model: str, thresholds: dict[str, float] | None = None) -> ModelResults:
     """A model's results that a figure cannot do without (FileNotFoundError naming the files)."""
     res = load_results(results_dir, model, thresholds)
     if res is None:
-        raise FileNotFoundError(f"no {model} results under {results_dir} ({model}/metrics.csv and "
-                                f"{model}/merged.zarr)")  # fmt: skip
+        raise FileNotFoundError(f"no {model} results under {results_dir} ({model}/metrics.csv and {model}/merged.zarr)")
     return res
 
 
-def optional_results(results_dir: str | Path, model: str, enabled: bool,
-                     thresholds: dict[str, float] | None = None) -> ModelResults | None:  # fmt: skip
+def optional_results(
+    results_dir: str | Path, model: str, enabled: bool, thresholds: dict[str, float] | None = None
+) -> ModelResults | None:
     """A model's results when the config enables it (then they must exist), else None: the
     figure draws that model's panels as "not in this run"."""
     return require_results(results_dir, model, thresholds) if enabled else None
@@ -196,8 +196,7 @@ class Controller:
         return f"{w} = the paper's {t}" if self.exact else f"{w}, nearest to the paper's {t}"
 
 
-def pick_controllers(overlap: np.ndarray, weights: np.ndarray, targets: Sequence[Point]
-                     ) -> list[Controller]:  # fmt: skip
+def pick_controllers(overlap: np.ndarray, weights: np.ndarray, targets: Sequence[Point]) -> list[Controller]:
     """For each target, the nearest unused controller of the grid with the highest overlap left.
 
     Generalists (O = 4) come first; when there are fewer generalists than targets (or none), the
@@ -215,8 +214,7 @@ def pick_controllers(overlap: np.ndarray, weights: np.ndarray, targets: Sequence
         d = np.hypot(w[i1] - t[0], w[i2] - t[1])
         k = int(np.argmin(d))
         used[i1[k], i2[k]] = True
-        out.append(Controller((float(t[0]), float(t[1])), float(w[i1[k]]), float(w[i2[k]]), best,
-                              bool(d[k] < 1e-9)))  # fmt: skip
+        out.append(Controller((float(t[0]), float(t[1])), float(w[i1[k]]), float(w[i2[k]]), best, bool(d[k] < 1e-9)))
     return out
 
 
@@ -253,8 +251,9 @@ def trajectories(design: Design, w: Point, s: TheorySettings) -> list[ReferenceT
     """The four environments' trajectories (light at the origin), run to the full horizon."""
     l1, l2 = design
     return [
-        reference_trajectory(tuple(start), l1, l2, w[0], w[1], radius=s.radius, horizon=s.horizon,
-                             tol=s.tol, stop_at_success=False)
+        reference_trajectory(
+            tuple(start), l1, l2, w[0], w[1], radius=s.radius, horizon=s.horizon, tol=s.tol, stop_at_success=False
+        )
         for start in gridmod.env_starts(s.r)
     ]
 
@@ -274,9 +273,13 @@ def stays_near(trs: Sequence[ReferenceTrajectory], near: float = NEAR_DISTANCE) 
     return all(math.isfinite(x) and x <= near for x in d)
 
 
-def persistence_table(designs: dict[str, Design], res: ModelResults, s: TheorySettings,
-                      near: float = NEAR_DISTANCE, limit: int = MAX_PERSISTENCE_CONTROLLERS
-                      ) -> pd.DataFrame:  # fmt: skip
+def persistence_table(
+    designs: dict[str, Design],
+    res: ModelResults,
+    s: TheorySettings,
+    near: float = NEAR_DISTANCE,
+    limit: int = MAX_PERSISTENCE_CONTROLLERS,
+) -> pd.DataFrame:
     """Per generalist controller (at most ``limit`` per design): does it stay near the source?
 
     One row per (design, controller) with the four environments' reference first-success times
@@ -291,17 +294,33 @@ def persistence_table(designs: dict[str, Design], res: ModelResults, s: TheorySe
         for w in spread(gen, limit):
             trs = trajectories(design, w, s)
             row: dict[str, Any] = {
-                "design": label, "l1x": design[0][0], "l1y": design[0][1], "l2x": design[1][0],
-                "l2y": design[1][1], "generalists": len(gen), "w1": w[0], "w2": w[1],
-            }  # fmt: skip
+                "design": label,
+                "l1x": design[0][0],
+                "l1y": design[0][1],
+                "l2x": design[1][0],
+                "l2y": design[1][1],
+                "generalists": len(gen),
+                "w1": w[0],
+                "w2": w[1],
+            }
             for ang, t in zip(gridmod.ENV_ANGLES_DEG, trs, strict=True):
                 row[f"first_time_{ang}"] = t.first_time
                 row[f"max_dist_after_{ang}"] = max_distance_after_success(t)
             row["stays_near"] = stays_near(trs, near)
             rows.append(row)
-    cols = ["design", "l1x", "l1y", "l2x", "l2y", "generalists", "w1", "w2",
-            *(f"first_time_{a}" for a in gridmod.ENV_ANGLES_DEG),
-            *(f"max_dist_after_{a}" for a in gridmod.ENV_ANGLES_DEG), "stays_near"]  # fmt: skip
+    cols = [
+        "design",
+        "l1x",
+        "l1y",
+        "l2x",
+        "l2y",
+        "generalists",
+        "w1",
+        "w2",
+        *(f"first_time_{a}" for a in gridmod.ENV_ANGLES_DEG),
+        *(f"max_dist_after_{a}" for a in gridmod.ENV_ANGLES_DEG),
+        "stays_near",
+    ]
     return pd.DataFrame(rows, columns=cols)
 
 

@@ -26,8 +26,11 @@ def readability_problems(fig: Figure, max_width: float = MAX_WIDTH_IN, min_pt: f
     w = fig.get_size_inches()[0]
     if w > max_width:
         out.append(f"figure is {w:g} in wide, more than {max_width:g}")
-    small = {t.get_text()[:30] for t in fig.findobj(Text)
-             if t.get_visible() and t.get_text().strip() and t.get_fontsize() < min_pt}  # fmt: skip
+    small = {
+        t.get_text()[:30]
+        for t in fig.findobj(Text)
+        if t.get_visible() and t.get_text().strip() and t.get_fontsize() < min_pt
+    }
     out += [f"text {s!r} is smaller than {min_pt:g} pt" for s in sorted(small)]
     return out
 

@@ -23,8 +23,7 @@ class Render:
     labels: dict[str, tuple[float, float]]  # part -> pixel (col, row) to annotate
 
 
-def _project(view: Sequence[float], proj: Sequence[float], p: Sequence[float], w: int, h: int
-             ) -> tuple[float, float]:  # fmt: skip
+def _project(view: Sequence[float], proj: Sequence[float], p: Sequence[float], w: int, h: int) -> tuple[float, float]:
     v = np.asarray(view, dtype=np.float64).reshape(4, 4, order="F")
     pr = np.asarray(proj, dtype=np.float64).reshape(4, 4, order="F")
     c = pr @ v @ np.array([*p, 1.0])
@@ -32,10 +31,17 @@ def _project(view: Sequence[float], proj: Sequence[float], p: Sequence[float], w
     return (ndc[0] + 1) * 0.5 * w, (1 - ndc[1]) * 0.5 * h
 
 
-def render_robot(params: EmpiricalParams | None = None, l1: Sequence[float] = (0.5, 0.5),
-                 l2: Sequence[float] = (0.5, -0.5), *, width: int = 960, height: int = 720,
-                 light_xy: tuple[float, float] = (2.0, 0.9), eye: Sequence[float] = (0.9, -3.1, 2.1),
-                 target: Sequence[float] = (0.75, 0.3, 0.05)) -> Render:  # fmt: skip
+def render_robot(
+    params: EmpiricalParams | None = None,
+    l1: Sequence[float] = (0.5, 0.5),
+    l2: Sequence[float] = (0.5, -0.5),
+    *,
+    width: int = 960,
+    height: int = 720,
+    light_xy: tuple[float, float] = (2.0, 0.9),
+    eye: Sequence[float] = (0.9, -3.1, 2.1),
+    target: Sequence[float] = (0.75, 0.3, 0.05),
+) -> Render:
     """Picture of the robot with sensors at ``l1``, ``l2`` and a light ``light_xy`` away."""
     import pybullet as pb
 
@@ -50,15 +56,21 @@ def render_robot(params: EmpiricalParams | None = None, l1: Sequence[float] = (0
         pb.changeVisualShape(robot, CASTOR, rgbaColor=[0.55, 0.55, 0.55, 1], physicsClientId=c)
         pb.changeVisualShape(world.light, -1, rgbaColor=[1.0, 0.82, 0.1, 1], physicsClientId=c)
         top = r + r / 4
-        sensor = pb.createVisualShape(pb.GEOM_SPHERE, radius=0.06, rgbaColor=[0.85, 0.05, 0.05, 1],
-                                      physicsClientId=c)  # fmt: skip
+        sensor = pb.createVisualShape(pb.GEOM_SPHERE, radius=0.06, rgbaColor=[0.85, 0.05, 0.05, 1], physicsClientId=c)
         for q in (l1, l2):
             pb.createMultiBody(0, -1, sensor, basePosition=[q[0], q[1], top + 0.03], physicsClientId=c)
         view = pb.computeViewMatrix(list(eye), list(target), [0, 0, 1], physicsClientId=c)
-        proj = pb.computeProjectionMatrixFOV(fov=38, aspect=width / height, nearVal=0.1, farVal=30,
-                                             physicsClientId=c)  # fmt: skip
-        img = pb.getCameraImage(width, height, view, proj, renderer=pb.ER_TINY_RENDERER,
-                                lightDirection=[1.0, 2.0, 3.0], shadow=1, physicsClientId=c)  # fmt: skip
+        proj = pb.computeProjectionMatrixFOV(fov=38, aspect=width / height, nearVal=0.1, farVal=30, physicsClientId=c)
+        img = pb.getCameraImage(
+            width,
+            height,
+            view,
+            proj,
+            renderer=pb.ER_TINY_RENDERER,
+            lightDirection=[1.0, 2.0, 3.0],
+            shadow=1,
+            physicsClientId=c,
+        )
         rgb = np.reshape(np.asarray(img[2], dtype=np.uint8), (height, width, 4))[:, :, :3].copy()
         sb = p.wheel_setback
         parts = {

@@ -25,35 +25,46 @@ NOT_RUN = "not in this run"
 
 #: (key, quantity, paper's value). Keys are stable identifiers for tests and downstream tools.
 QUANTITIES: tuple[tuple[str, str, str], ...] = (
-    ("theory_canonical_generalists", "theory, canonical design: generalist controllers (O = 4)",
-     "57 of 14641 (0.39 %)"),
+    (
+        "theory_canonical_generalists",
+        "theory, canonical design: generalist controllers (O = 4)",
+        "57 of 14641 (0.39 %)",
+    ),
     ("theory_canonical_M_L", "theory, canonical design: M_L", "0.049 (text); 57/14641 = 0.0039 (caption)"),
     ("theory_canonical_M_CF", "theory, canonical design: M_CF", "0.24"),
-    ("theory_paper_best_generalists", "theory, design (-0.5,-0.25),(0.5,0.25): generalists",
-     "2255 of 14641 (15.4 %)"),
-    ("theory_paper_best_M_L", "theory, design (-0.5,-0.25),(0.5,0.25): M_L",
-     "0.286 (text); 2255/14641 = 0.154 (caption)"),
+    ("theory_paper_best_generalists", "theory, design (-0.5,-0.25),(0.5,0.25): generalists", "2255 of 14641 (15.4 %)"),
+    (
+        "theory_paper_best_M_L",
+        "theory, design (-0.5,-0.25),(0.5,0.25): M_L",
+        "0.286 (text); 2255/14641 = 0.154 (caption)",
+    ),
     ("theory_paper_best_M_CF", "theory, design (-0.5,-0.25),(0.5,0.25): M_CF", "0.636"),
-    ("theory_best_design", "theory, design with the highest M_L",
-     "(-0.5,-0.25),(0.5,0.25) and its mirror image"),
+    ("theory_best_design", "theory, design with the highest M_L", "(-0.5,-0.25),(0.5,0.25) and its mirror image"),
     ("theory_best_M_L_with_M_CF_1", "theory, highest M_L among designs with M_CF = 1", "0.206"),
-    ("theory_example_canonical", "theory, canonical design: example generalists (Fig. 4)",
-     "(0.6, 0.98), (0.77, 0.77) solve all 4"),
-    ("theory_example_best", "theory, best design: example generalists (Fig. 5)",
-     "(-0.85, 0.82), (-0.8, 0.6), (-0.28, 0.37) solve all 4"),
-    ("theory_persistence_best", "theory, best design: generalists that stay near the source",
-     "35 of 35"),
-    ("theory_persistence_canonical", "theory, canonical design: generalists that stay near the source",
-     "2 of 6"),
-    ("empirical_canonical_w11", "empirical, canonical design: environments solved by w = (1, 1)",
-     "4 of 4 (the authors' fitness target and only generalist)"),
+    (
+        "theory_example_canonical",
+        "theory, canonical design: example generalists (Fig. 4)",
+        "(0.6, 0.98), (0.77, 0.77) solve all 4",
+    ),
+    (
+        "theory_example_best",
+        "theory, best design: example generalists (Fig. 5)",
+        "(-0.85, 0.82), (-0.8, 0.6), (-0.28, 0.37) solve all 4",
+    ),
+    ("theory_persistence_best", "theory, best design: generalists that stay near the source", "35 of 35"),
+    ("theory_persistence_canonical", "theory, canonical design: generalists that stay near the source", "2 of 6"),
+    (
+        "empirical_canonical_w11",
+        "empirical, canonical design: environments solved by w = (1, 1)",
+        "4 of 4 (the authors' fitness target and only generalist)",
+    ),
     ("empirical_canonical_M_L", "empirical, canonical design: M_L", "0.000068 (1 of 14641)"),
     ("empirical_canonical_M_CF", "empirical, canonical design: M_CF", "0.00052"),
     ("empirical_best_design", "empirical, design with the highest M_L", "(not stated as coordinates)"),
     ("empirical_best_M_L", "empirical, best design: M_L", "0.0039 (57 of 14641)"),
     ("empirical_best_M_CF", "empirical, best design: M_CF", "0.038"),
     ("empirical_best_on_both", "empirical, one design best by both M_L and M_CF", "yes"),
-)  # fmt: skip
+)
 COLUMNS = ["key", "quantity", "paper", "ours", "config", "note"]
 #: The paper's column for rows beyond the paper (the learner stage, issue 15).
 BEYOND = "beyond the paper (no learning algorithm tested)"
@@ -78,15 +89,18 @@ def learner_rows(corr: pd.DataFrame, config_name: str) -> list[dict[str, str]]:
         k = f"learners_{r.learner}_{r.protocol}"
         items = [(f"{k}_rho_M_L", f"{name}: Spearman rho(M_L, P(generalist))", _ci(r, "rho_ML_success"))]
         if r.protocol == "sequential":
-            items.append((f"{k}_rho_M_CF", f"{name}: Spearman rho(M_CF, 1 - forgetting rate)",
-                          _ci(r, "rho_MCF_retention")))  # fmt: skip
+            items.append(
+                (f"{k}_rho_M_CF", f"{name}: Spearman rho(M_CF, 1 - forgetting rate)", _ci(r, "rho_MCF_retention"))
+            )
         if r.learner != "random":
-            items.append((f"{k}_advantage", f"{name}: P(generalist) minus random search's",
-                          _ci(r, "advantage_vs_random")))  # fmt: skip
+            items.append(
+                (f"{k}_advantage", f"{name}: P(generalist) minus random search's", _ci(r, "advantage_vs_random"))
+            )
         for key, quantity, value in items:
             note = f"{int(r.designs)} designs; learners/correlations.csv"
-            rows.append({"key": key, "quantity": quantity, "paper": BEYOND, "ours": value,
-                         "config": config_name, "note": note})  # fmt: skip
+            rows.append(
+                {"key": key, "quantity": quantity, "paper": BEYOND, "ours": value, "config": config_name, "note": note}
+            )
     return rows
 
 
@@ -111,31 +125,53 @@ def survey_rows(theory: fd.ModelResults, empirical: fd.ModelResults, config_name
     best = top_l.iloc[0]
     canon = metrics.find_row(t, gridmod.canonical_design())
     with_g = int((t.generalists > 0).sum())
-    canon_rank = ("canonical not simulated" if canon is None else
-                  f"{metrics.rank_of(t, canon, 'M_L')} by M_L, {metrics.rank_of(t, canon, 'M_CF')} by M_CF "
-                  f"(of {n}; ties share a rank)")  # fmt: skip
+    canon_rank = (
+        "canonical not simulated"
+        if canon is None
+        else f"{metrics.rank_of(t, canon, 'M_L')} by M_L, {metrics.rank_of(t, canon, 'M_CF')} by M_CF "
+        f"(of {n}; ties share a rank)"
+    )
     same = int(best.design) == int(top_cf.iloc[0].design)
-    mirror_l, mirror_cf = (gridmod.DesignGrid(empirical.positions_per_axis).mirror(int(r.design))
-                           for r in (best, top_cf.iloc[0]))  # fmt: skip
+    mirror_l, mirror_cf = (
+        gridmod.DesignGrid(empirical.positions_per_axis).mirror(int(r.design)) for r in (best, top_cf.iloc[0])
+    )
     same_pair = same or int(mirror_l) == int(top_cf.iloc[0].design) or int(mirror_cf) == int(best.design)
-    top3 = "; ".join(f"{fd.design_label(*fd.row_design(r))} (M_L {r.M_L:.4g}, M_CF {r.M_CF:.4g})"
-                     for _, r in top_l.head(3).iterrows())  # fmt: skip
+    top3 = "; ".join(
+        f"{fd.design_label(*fd.row_design(r))} (M_L {r.M_L:.4g}, M_CF {r.M_CF:.4g})"
+        for _, r in top_l.head(3).iterrows()
+    )
     items = [
-        ("survey_share_with_generalist", "empirical survey: designs with at least one generalist",
-         "(not stated)", f"{with_g} of {n} ({with_g / n:.1%})"),
+        (
+            "survey_share_with_generalist",
+            "empirical survey: designs with at least one generalist",
+            "(not stated)",
+            f"{with_g} of {n} ({with_g / n:.1%})",
+        ),
         ("survey_best_designs", "empirical survey: the best designs by M_L", "(Fig. 3C, not as coordinates)", top3),
-        ("survey_canonical_rank", "empirical survey: the canonical design's rank",
-         "below the best asymmetric design on both metrics", canon_rank),
-        ("survey_best_on_both", "empirical survey: one design (or mirror pair) best by both M_L and M_CF", "yes",
-         "yes" if same_pair else f"no (best by M_CF: {fd.design_label(*fd.row_design(top_cf.iloc[0]))})"),
-        ("survey_rho_M_L", "theory vs physics: Spearman rho of M_L over designs", BEYOND_MODELS,
-         agree["M_L"].text()),
-        ("survey_rho_M_CF", "theory vs physics: Spearman rho of M_CF over designs", BEYOND_MODELS,
-         agree["M_CF"].text()),
-    ]  # fmt: skip
+        (
+            "survey_canonical_rank",
+            "empirical survey: the canonical design's rank",
+            "below the best asymmetric design on both metrics",
+            canon_rank,
+        ),
+        (
+            "survey_best_on_both",
+            "empirical survey: one design (or mirror pair) best by both M_L and M_CF",
+            "yes",
+            "yes" if same_pair else f"no (best by M_CF: {fd.design_label(*fd.row_design(top_cf.iloc[0]))})",
+        ),
+        ("survey_rho_M_L", "theory vs physics: Spearman rho of M_L over designs", BEYOND_MODELS, agree["M_L"].text()),
+        (
+            "survey_rho_M_CF",
+            "theory vs physics: Spearman rho of M_CF over designs",
+            BEYOND_MODELS,
+            agree["M_CF"].text(),
+        ),
+    ]
     note = f"empirical: {science_summary(empirical)}"
-    return [{"key": k, "quantity": q, "paper": p, "ours": o, "config": config_name, "note": note}
-            for k, q, p, o in items]  # fmt: skip
+    return [
+        {"key": k, "quantity": q, "paper": p, "ours": o, "config": config_name, "note": note} for k, q, p, o in items
+    ]
 
 
 def _frac(n: int, m: int) -> str:
@@ -192,15 +228,19 @@ def theory_rows(res: fd.ModelResults, pers: pd.DataFrame | None, near: float) ->
         out["theory_paper_best_M_CF"] = (f"{best.M_CF:.4g}", "")
     top = res.best("M_L")
     ties = len(res.tied_with(top, "M_L"))
-    out["theory_best_design"] = (f"{fd.design_label(*fd.row_design(top))}, M_L = {top.M_L:.4g}",
-                                 f"{ties} design(s) share this M_L")  # fmt: skip
+    out["theory_best_design"] = (
+        f"{fd.design_label(*fd.row_design(top))}, M_L = {top.M_L:.4g}",
+        f"{ties} design(s) share this M_L",
+    )
     full = res.table[np.isclose(res.table.M_CF, 1.0)]
     out["theory_best_M_L_with_M_CF_1"] = (
         (f"{full.M_L.max():.4g}", f"{len(full)} designs have M_CF = 1") if len(full) else ("no design", "")
     )
     if canon is not None:
-        out["theory_example_canonical"] = (_examples(res, gridmod.canonical_design(),
-                                                     fd.PAPER_CANONICAL_CONTROLLERS), scale)  # fmt: skip
+        out["theory_example_canonical"] = (
+            _examples(res, gridmod.canonical_design(), fd.PAPER_CANONICAL_CONTROLLERS),
+            scale,
+        )
     if best is not None:
         out["theory_example_best"] = (_examples(res, fd.PAPER_BEST_DESIGN, fd.PAPER_BEST_CONTROLLERS), scale)
     rule = f"stays near = after its first success the centre never again moves farther than {near:g} from the light"
@@ -221,21 +261,31 @@ def empirical_rows(res: fd.ModelResults) -> dict[str, tuple[str, str]]:
         out["empirical_canonical_w11"] = (f"{k} of 4", "committed morphology (optimise_morphology)")
         out["empirical_canonical_M_L"] = (f"{canon.M_L:.4g} ({_frac(int(canon.generalists), m2)})", scale)
         out["empirical_canonical_M_CF"] = (f"{canon.M_CF:.4g}", "")
-    subset = "" if res.n_designs == gridmod.DesignGrid(res.positions_per_axis or 0).size else (
-        f"best of the {res.n_designs} designs simulated in this run")  # fmt: skip
+    subset = (
+        ""
+        if res.n_designs == gridmod.DesignGrid(res.positions_per_axis or 0).size
+        else (f"best of the {res.n_designs} designs simulated in this run")
+    )
     top, top_cf = res.best("M_L"), res.best("M_CF")
     out["empirical_best_design"] = (fd.design_label(*fd.row_design(top)), subset)
     out["empirical_best_M_L"] = (f"{top.M_L:.4g} ({_frac(int(top.generalists), m2)})", scale)
     out["empirical_best_M_CF"] = (f"{top.M_CF:.4g}", "")
     same = fd.row_design(top) == fd.row_design(top_cf)
-    out["empirical_best_on_both"] = ("yes" if same else f"no (best by M_CF: {fd.design_label(*fd.row_design(top_cf))})",
-                                     subset)  # fmt: skip
+    out["empirical_best_on_both"] = (
+        "yes" if same else f"no (best by M_CF: {fd.design_label(*fd.row_design(top_cf))})",
+        subset,
+    )
     return out
 
 
-def reproduction_table(theory: fd.ModelResults | None, empirical: fd.ModelResults | None,
-                       persistence: pd.DataFrame | None, config_name: str, near: float,
-                       learners: pd.DataFrame | None = None) -> pd.DataFrame:  # fmt: skip
+def reproduction_table(
+    theory: fd.ModelResults | None,
+    empirical: fd.ModelResults | None,
+    persistence: pd.DataFrame | None,
+    config_name: str,
+    near: float,
+    learners: pd.DataFrame | None = None,
+) -> pd.DataFrame:
     """The table, one row per entry of ``QUANTITIES`` in that order, then the learner rows (beyond
     the paper) when ``learners`` (learners/correlations.csv) is given."""
     ours: dict[str, tuple[str, str]] = {}
@@ -247,8 +297,16 @@ def reproduction_table(theory: fd.ModelResults | None, empirical: fd.ModelResult
     for key, quantity, paper in QUANTITIES:
         res = {"theory": theory, "empirical": empirical}[key.split("_", 1)[0]]  # a key names its model
         value, note = ours.get(key, (NOT_RUN, ""))
-        rows.append({"key": key, "quantity": quantity, "paper": paper, "ours": value,
-                     "config": _config(res, config_name), "note": note})  # fmt: skip
+        rows.append(
+            {
+                "key": key,
+                "quantity": quantity,
+                "paper": paper,
+                "ours": value,
+                "config": _config(res, config_name),
+                "note": note,
+            }
+        )
     if is_survey(theory, empirical):
         rows += survey_rows(theory, empirical, config_name)
     if learners is not None:
@@ -262,8 +320,7 @@ def to_markdown(table: pd.DataFrame) -> str:
     lines = ["| quantity | paper | ours | note |", "|---|---|---|---|"]
     lines += [f"| {esc(r.quantity)} | {esc(r.paper)} | {esc(r.ours)} | {esc(r.note)} |" for r in table.itertuples()]
     configs = dict.fromkeys(table.config)
-    return "\n".join(["# Reproduction table", "", *lines, "", "Configs:", "",
-                      *(f"- {c}" for c in configs), ""])  # fmt: skip
+    return "\n".join(["# Reproduction table", "", *lines, "", "Configs:", "", *(f"- {c}" for c in configs), ""])
 
 
 def write(table: pd.DataFrame, csv: str | Path, md: str | Path, html: str | Path) -> None:
@@ -272,14 +329,20 @@ def write(table: pd.DataFrame, csv: str | Path, md: str | Path, html: str | Path
     Path(html).write_text(table.drop(columns=["key"]).to_html(index=False, border=0) + "\n")
 
 
-def persistence_counts(theory: fd.ModelResults, settings: fd.TheorySettings, near: float, limit: int
-                       ) -> pd.DataFrame:  # fmt: skip
+def persistence_counts(theory: fd.ModelResults, settings: fd.TheorySettings, near: float, limit: int) -> pd.DataFrame:
     """Persistence table of the canonical and best designs (see :func:`data.persistence_table`)."""
     return fd.persistence_table(fd.persistence_designs(theory), theory, settings, near, limit)
 
 
-def run(results_dir: str, config_name: str, thresholds: dict[str, dict[str, Any]], settings: dict[str, float],
-        near: float, limit: int, learners_enabled: bool = False) -> tuple[pd.DataFrame, pd.DataFrame]:  # fmt: skip
+def run(
+    results_dir: str,
+    config_name: str,
+    thresholds: dict[str, dict[str, Any]],
+    settings: dict[str, float],
+    near: float,
+    limit: int,
+    learners_enabled: bool = False,
+) -> tuple[pd.DataFrame, pd.DataFrame]:
     """Load the results of the models of ``thresholds`` (model -> its thresholds: the models this
     config runs) and build (reproduction table, persistence table)."""
     corr = pd.read_csv(Path(results_dir) / "learners" / "correlations.csv") if learners_enabled else None

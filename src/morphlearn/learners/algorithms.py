@@ -90,10 +90,16 @@ class CMAES:
 
     def _start(self, x0: np.ndarray) -> None:
         opts = {
-            "bounds": [LO, HI], "seed": math.nan, "verbose": -9, "verb_log": 0, "verb_disp": 0,
+            "bounds": [LO, HI],
+            "seed": math.nan,
+            "verbose": -9,
+            "verb_log": 0,
+            "verb_disp": 0,
             "randn": lambda lam, n: self.rng.standard_normal((lam, n)),
-            "tolfun": 1e-9, "tolx": 1e-6, "maxfevals": math.inf,
-        }  # fmt: skip
+            "tolfun": 1e-9,
+            "tolx": 1e-6,
+            "maxfevals": math.inf,
+        }
         self.es = cma.CMAEvolutionStrategy(np.asarray(x0, dtype=np.float64).tolist(), self.sigma0, opts)
         self._pending: list[np.ndarray] = []
 

@@ -32,8 +32,12 @@ if TYPE_CHECKING:
 def science(s: Settings) -> dict[str, Any]:
     """The config subset that determines the learner stage's per-design numbers."""
     th = models.get("theory").science(s)
-    return {"model": "learners", "theory": th["theory"], "grid": {"positions_per_axis": s.grid.positions_per_axis},
-            "learners": s.learners.science()}  # fmt: skip
+    return {
+        "model": "learners",
+        "theory": th["theory"],
+        "grid": {"positions_per_axis": s.grid.positions_per_axis},
+        "learners": s.learners.science(),
+    }
 
 
 def designs(s: Settings) -> np.ndarray:
@@ -77,8 +81,10 @@ def run_designs(settings: Settings, design_ids: np.ndarray) -> pd.DataFrame:
     keys = [(i, int(d), lr, pr) for i, d in enumerate(design_ids) for lr in s.learners for pr in s.protocols]
     runs = [(i, make_run(s, d, lr, pr, k)) for (i, d, lr, pr) in keys for k in range(s.seeds)]
     results = protocols.drive(ev, runs)
-    rows = [stats.summarise_runs(d, lr, pr, results[j * s.seeds : (j + 1) * s.seeds])
-            for j, (_, d, lr, pr) in enumerate(keys)]  # fmt: skip
+    rows = [
+        stats.summarise_runs(d, lr, pr, results[j * s.seeds : (j + 1) * s.seeds])
+        for j, (_, d, lr, pr) in enumerate(keys)
+    ]
     return pd.DataFrame(rows, columns=list(stats.COLUMNS))
 
 
@@ -123,15 +129,24 @@ def run_shard(settings: Settings, shard: int, out: str | Path) -> None:
                 rec = {"science": sci, "rows": json.loads(rows.to_json(orient="records"))}
                 with store.atomic_path(folder / f"design_{d}.json") as tmp:
                     tmp.write_text(json.dumps(rec, sort_keys=True) + "\n")
-        print(f"learners shard {shard}: {a + len(part)}/{len(todo)} designs run ({wall:.1f} s wall, "
-              f"{cpu:.1f} CPU-s for {len(part)})", flush=True)  # fmt: skip
+        print(
+            f"learners shard {shard}: {a + len(part)}/{len(todo)} designs run ({wall:.1f} s wall, "
+            f"{cpu:.1f} CPU-s for {len(part)})",
+            flush=True,
+        )
     table = pd.concat([done[int(d)] for d in mine], ignore_index=True)
     with store.atomic_path(Path(out)) as tmp:
         table.to_csv(tmp, index=False, float_format=CSV_FLOAT_FORMAT)
 
 
-def run_analysis(settings: Settings, shard_csvs: list[str], metrics_csv: str, out_runs: str | Path,
-                 out_corr: str | Path, out_md: str | Path) -> None:  # fmt: skip
+def run_analysis(
+    settings: Settings,
+    shard_csvs: list[str],
+    metrics_csv: str,
+    out_runs: str | Path,
+    out_corr: str | Path,
+    out_md: str | Path,
+) -> None:
     """Merge the shards (one row per design x learner x protocol, with the design's coordinates,
     M_L and M_CF), correlate (stats.correlations) and write a short summary."""
     from morphlearn.learners import stats
@@ -143,8 +158,10 @@ def run_analysis(settings: Settings, shard_csvs: list[str], metrics_csv: str, ou
     merged = runs.merge(metrics[cols], on="design", how="left", validate="many_to_one")
     if merged.M_L.isna().any():
         missing = sorted(merged.design[merged.M_L.isna()].unique())[:5]
-        raise ValueError(f"{metrics_csv}: no theory metrics for learner designs {missing}: the learner "
-                         "stage and the theory sweep must use the same grid")  # fmt: skip
+        raise ValueError(
+            f"{metrics_csv}: no theory metrics for learner designs {missing}: the learner "
+            "stage and the theory sweep must use the same grid"
+        )
     merged = merged.sort_values(["design", "learner", "protocol"], kind="stable")
     corr = stats.correlations(merged, metrics, n_boot=s.bootstrap, seed=s.seed)
     for path, table in ((out_runs, merged), (out_corr, corr)):
@@ -168,20 +185,24 @@ def _pos(r: pd.Series, key: str, n_key: str) -> str:
 
 def summary_markdown(corr: pd.DataFrame, s: LearnerSettings, n_designs: int) -> str:
     lines = [
-        "# Learners on the theory model (beyond the paper)", "",
+        "# Learners on the theory model (beyond the paper)",
+        "",
         f"{n_designs} designs (one of each mirror pair), {s.seeds} seeds per design, learner and "
         f"protocol; joint budget {s.budget} evaluations (x 4 environments), sequential {s.cycles} "
         f"cycles x 4 environments x {s.per_phase} evaluations. Spearman rho with 95 % bootstrap "
-        f"intervals over designs ({s.bootstrap} resamples).", "",
+        f"intervals over designs ({s.bootstrap} resamples).",
+        "",
         "| learner | protocol | mean P(generalist) | rho(M_L, P(generalist)) | same, M_L > 0 "
         "| rho(M_CF, 1 - forgetting) | same, M_CF > 0 | mean forgetting rate | P(generalist) - random |",
         "|---|---|---|---|---|---|---|---|---|",
-    ]  # fmt: skip
+    ]
     for _, r in corr.iterrows():
         fr = r.get("mean_forgetting_rate")
-        lines.append(f"| {r.learner} | {r.protocol} | {r.mean_p_generalist:.3f} | {_ci(r, 'rho_ML_success')} | "
-                     f"{_ci(r, 'rho_ML_success_pos')} (n = {int(r.designs_ML_pos)}) | "
-                     f"{_ci(r, 'rho_MCF_retention')} | {_pos(r, 'rho_MCF_retention_pos', 'designs_MCF_pos')} | "
-                     f"{'n/a' if fr is None or pd.isna(fr) else f'{fr:.3f}'} | "
-                     f"{_ci(r, 'advantage_vs_random')} |")  # fmt: skip
+        lines.append(
+            f"| {r.learner} | {r.protocol} | {r.mean_p_generalist:.3f} | {_ci(r, 'rho_ML_success')} | "
+            f"{_ci(r, 'rho_ML_success_pos')} (n = {int(r.designs_ML_pos)}) | "
+            f"{_ci(r, 'rho_MCF_retention')} | {_pos(r, 'rho_MCF_retention_pos', 'designs_MCF_pos')} | "
+            f"{'n/a' if fr is None or pd.isna(fr) else f'{fr:.3f}'} | "
+            f"{_ci(r, 'advantage_vs_random')} |"
+        )
     return "\n".join(lines) + "\n"

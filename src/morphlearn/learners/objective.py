@@ -31,8 +31,7 @@ from morphlearn.theory import cpu as kernel
 N_ENV = 4
 
 
-def env_loss(first_time: np.ndarray, min_dist: np.ndarray, success: np.ndarray, horizon: float,
-             r: float) -> np.ndarray:  # fmt: skip
+def env_loss(first_time: np.ndarray, min_dist: np.ndarray, success: np.ndarray, horizon: float, r: float) -> np.ndarray:
     """Per-environment loss (module docstring)."""
     ok = np.asarray(success, bool)
     return np.where(ok, np.nan_to_num(first_time, nan=horizon) / horizon, 1.0 + np.asarray(min_dist) / r)
@@ -59,16 +58,25 @@ class Evaluator:
         self.designs = np.ascontiguousarray(self.designs, dtype=np.float64).reshape(-1, 4)
         self.starts = env_starts(self.params.r)
 
-    def __call__(self, design_idx: np.ndarray, env_idx: np.ndarray, w: np.ndarray
-                 ) -> tuple[np.ndarray, np.ndarray]:  # fmt: skip
+    def __call__(self, design_idx: np.ndarray, env_idx: np.ndarray, w: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Loss and success per quadruple; ``w`` is (k, 2)."""
         p = self.params
         w = np.asarray(w, dtype=np.float64).reshape(-1, 2)
         ft, dm, st = kernel.points(
-            self.designs, self.starts, design_idx, env_idx, w[:, 0], w[:, 1],
-            radius=p.success_radius, horizon=p.horizon, method=p.method, rtol=p.rtol,
-            atol=p.atol, dt=p.dt, max_steps=p.max_steps,
-        )  # fmt: skip
+            self.designs,
+            self.starts,
+            design_idx,
+            env_idx,
+            w[:, 0],
+            w[:, 1],
+            radius=p.success_radius,
+            horizon=p.horizon,
+            method=p.method,
+            rtol=p.rtol,
+            atol=p.atol,
+            dt=p.dt,
+            max_steps=p.max_steps,
+        )
         self.trajectories += len(ft)
         success = (st == 0) & np.isfinite(ft)
         return env_loss(ft, dm, success, p.horizon, p.r), success

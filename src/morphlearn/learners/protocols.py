@@ -70,8 +70,7 @@ def joint(learner: algorithms.Learner, budget: int) -> Run:
     return RunResult(reached, first, reached, 0, 0, evals)
 
 
-def sequential(learner: algorithms.Learner, per_phase: int, cycles: int,
-               order: Iterable[int] = range(N_ENV)) -> Run:  # fmt: skip
+def sequential(learner: algorithms.Learner, per_phase: int, cycles: int, order: Iterable[int] = range(N_ENV)) -> Run:
     order = list(order)
     evals = 0
     first = math.nan

@@ -12,9 +12,19 @@ from scipy import stats as sps
 from morphlearn.learners.protocols import RunResult
 
 #: Columns of a per-design row (one per design x learner x protocol).
-COLUMNS = ("design", "learner", "protocol", "seeds", "p_generalist", "evals_to_generalist_mean",
-           "evals_to_generalist_median", "p_final_generalist", "forget_events",
-           "forget_opportunities", "forgetting_rate")  # fmt: skip
+COLUMNS = (
+    "design",
+    "learner",
+    "protocol",
+    "seeds",
+    "p_generalist",
+    "evals_to_generalist_mean",
+    "evals_to_generalist_median",
+    "p_final_generalist",
+    "forget_events",
+    "forget_opportunities",
+    "forgetting_rate",
+)
 
 
 def summarise_runs(design: int, learner: str, protocol: str, runs: Sequence[RunResult]) -> dict:
@@ -26,18 +36,23 @@ def summarise_runs(design: int, learner: str, protocol: str, runs: Sequence[RunR
     ev = sum(r.forget_events for r in runs)
     op = sum(r.forget_opportunities for r in runs)
     return {
-        "design": int(design), "learner": learner, "protocol": protocol, "seeds": len(runs),
+        "design": int(design),
+        "learner": learner,
+        "protocol": protocol,
+        "seeds": len(runs),
         "p_generalist": float(reached.mean()),
         "evals_to_generalist_mean": float(evals.mean()) if evals.size else math.nan,
         "evals_to_generalist_median": float(np.median(evals)) if evals.size else math.nan,
         "p_final_generalist": float(np.mean([r.final_generalist for r in runs])),
-        "forget_events": int(ev), "forget_opportunities": int(op),
+        "forget_events": int(ev),
+        "forget_opportunities": int(op),
         "forgetting_rate": ev / op if op else math.nan,
-    }  # fmt: skip
+    }
 
 
-def spearman_ci(x: np.ndarray, y: np.ndarray, *, n_boot: int, seed: int, level: float = 0.95
-                ) -> tuple[float, float, float, int]:  # fmt: skip
+def spearman_ci(
+    x: np.ndarray, y: np.ndarray, *, n_boot: int, seed: int, level: float = 0.95
+) -> tuple[float, float, float, int]:
     """Spearman's rho of the finite pairs, with a percentile bootstrap interval over designs
     (resampled with replacement; resamples where either side is constant are dropped, as rho is
     undefined there). Returns (rho, low, high, n)."""
@@ -62,8 +77,9 @@ def spearman_ci(x: np.ndarray, y: np.ndarray, *, n_boot: int, seed: int, level: 
     return rho, float(np.quantile(boot, a)), float(np.quantile(boot, 1.0 - a)), n
 
 
-def mean_diff_ci(a: np.ndarray, b: np.ndarray, *, n_boot: int, seed: int, level: float = 0.95
-                 ) -> tuple[float, float, float]:  # fmt: skip
+def mean_diff_ci(
+    a: np.ndarray, b: np.ndarray, *, n_boot: int, seed: int, level: float = 0.95
+) -> tuple[float, float, float]:
     """Mean of the paired differences ``a - b`` over designs, with a percentile bootstrap interval."""
     d = np.asarray(a, dtype=np.float64) - np.asarray(b, dtype=np.float64)
     d = d[np.isfinite(d)]
@@ -86,30 +102,49 @@ def correlations(runs: pd.DataFrame, metrics: pd.DataFrame, *, n_boot: int, seed
         g = g.set_index("design").sort_index()
         ml, mcf = m.loc[g.index, "M_L"].to_numpy(), m.loc[g.index, "M_CF"].to_numpy()
         rho, lo, hi, n = spearman_ci(ml, g.p_generalist.to_numpy(), n_boot=n_boot, seed=seed)
-        row = {"learner": learner, "protocol": protocol, "designs": len(g),
-               "mean_p_generalist": float(g.p_generalist.mean()),
-               "rho_ML_success": rho, "rho_ML_success_lo": lo, "rho_ML_success_hi": hi}  # fmt: skip
+        row = {
+            "learner": learner,
+            "protocol": protocol,
+            "designs": len(g),
+            "mean_p_generalist": float(g.p_generalist.mean()),
+            "rho_ML_success": rho,
+            "rho_ML_success_lo": lo,
+            "rho_ML_success_hi": hi,
+        }
         # The same among designs with M_L > 0 only: designs without a generalist on the grid are
         # one large tie at M_L = 0 (and rarely learnable), which alone can make rho large.
         pos = ml > 0
         rho, lo, hi, n = spearman_ci(ml[pos], g.p_generalist.to_numpy()[pos], n_boot=n_boot, seed=seed)
-        row |= {"rho_ML_success_pos": rho, "rho_ML_success_pos_lo": lo, "rho_ML_success_pos_hi": hi,
-                "designs_ML_pos": n}  # fmt: skip
+        row |= {
+            "rho_ML_success_pos": rho,
+            "rho_ML_success_pos_lo": lo,
+            "rho_ML_success_pos_hi": hi,
+            "designs_ML_pos": n,
+        }
         if protocol == "sequential":
             retention = 1.0 - g.forgetting_rate.to_numpy()
             rho, lo, hi, n = spearman_ci(mcf, retention, n_boot=n_boot, seed=seed)
-            row |= {"rho_MCF_retention": rho, "rho_MCF_retention_lo": lo, "rho_MCF_retention_hi": hi,
-                    "designs_with_forgetting_data": n,
-                    "mean_forgetting_rate": float(g.forgetting_rate.mean())}  # fmt: skip
+            row |= {
+                "rho_MCF_retention": rho,
+                "rho_MCF_retention_lo": lo,
+                "rho_MCF_retention_hi": hi,
+                "designs_with_forgetting_data": n,
+                "mean_forgetting_rate": float(g.forgetting_rate.mean()),
+            }
             pos = mcf > 0
             rho, lo, hi, n = spearman_ci(mcf[pos], retention[pos], n_boot=n_boot, seed=seed)
-            row |= {"rho_MCF_retention_pos": rho, "rho_MCF_retention_pos_lo": lo,
-                    "rho_MCF_retention_pos_hi": hi, "designs_MCF_pos": n}  # fmt: skip
+            row |= {
+                "rho_MCF_retention_pos": rho,
+                "rho_MCF_retention_pos_lo": lo,
+                "rho_MCF_retention_pos_hi": hi,
+                "designs_MCF_pos": n,
+            }
         base = runs[(runs.learner == "random") & (runs.protocol == protocol)].set_index("design")
         if len(base) and learner != "random":
             common = g.index.intersection(base.index)
-            d, lo, hi = mean_diff_ci(g.loc[common, "p_generalist"], base.loc[common, "p_generalist"],
-                                     n_boot=n_boot, seed=seed)  # fmt: skip
+            d, lo, hi = mean_diff_ci(
+                g.loc[common, "p_generalist"], base.loc[common, "p_generalist"], n_boot=n_boot, seed=seed
+            )
             row |= {"advantage_vs_random": d, "advantage_vs_random_lo": lo, "advantage_vs_random_hi": hi}
         rows.append(row)
     return pd.DataFrame(rows)

@@ -96,10 +96,17 @@ def evaluate(
     bar = tqdm(total=len(designs), unit="design", disable=not progress, mininterval=1.0)
     for a in range(0, len(designs), per_batch):
         ft, dm, st, n = kernel.sweep(
-            designs[a : a + per_batch], weights, starts, radius=p.success_radius,
-            horizon=p.horizon, method=p.method, rtol=p.rtol, atol=p.atol, dt=p.dt,
+            designs[a : a + per_batch],
+            weights,
+            starts,
+            radius=p.success_radius,
+            horizon=p.horizon,
+            method=p.method,
+            rtol=p.rtol,
+            atol=p.atol,
+            dt=p.dt,
             max_steps=p.max_steps,
-        )  # fmt: skip
+        )
         for i in range(len(ft)):
             out.append(DesignResult(ft[i], dm[i], st[i]))
             if done:

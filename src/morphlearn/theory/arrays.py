@@ -8,8 +8,9 @@ import numpy as np
 Outputs = tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]
 
 
-def sweep_arrays(designs: np.ndarray, w: np.ndarray, starts: np.ndarray
-                 ) -> tuple[np.ndarray, np.ndarray, np.ndarray, Outputs]:  # fmt: skip
+def sweep_arrays(
+    designs: np.ndarray, w: np.ndarray, starts: np.ndarray
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, Outputs]:
     """(designs (nd, 4), w, starts, (first_time, min_dist, status int8, steps int64)), outputs empty."""
     designs = np.ascontiguousarray(designs, dtype=np.float64).reshape(-1, 4)
     w = np.ascontiguousarray(w, dtype=np.float64)

@@ -15,8 +15,7 @@ _CHUNK = 16
 
 
 @numba.njit(parallel=True, cache=True)
-def _sweep(designs, w, starts, radius, horizon, method, rtol, atol, dt, max_steps,
-           out_t, out_d, out_s, out_n):  # fmt: skip
+def _sweep(designs, w, starts, radius, horizon, method, rtol, atol, dt, max_steps, out_t, out_d, out_s, out_n):
     nd = designs.shape[0]
     m = w.shape[0]
     ne = starts.shape[0]
@@ -28,10 +27,22 @@ def _sweep(designs, w, starts, radius, horizon, method, rtol, atol, dt, max_step
         i = (r // m) % m
         j = r % m
         ft, dm, st, n = _trajectory(
-            starts[e, 0], starts[e, 1],
-            designs[di, 0], designs[di, 1], designs[di, 2], designs[di, 3],
-            w[i], w[j], radius, horizon, method, rtol, atol, dt, max_steps,
-        )  # fmt: skip
+            starts[e, 0],
+            starts[e, 1],
+            designs[di, 0],
+            designs[di, 1],
+            designs[di, 2],
+            designs[di, 3],
+            w[i],
+            w[j],
+            radius,
+            horizon,
+            method,
+            rtol,
+            atol,
+            dt,
+            max_steps,
+        )
         out_t[di, e, i, j] = ft
         out_d[di, e, i, j] = dm
         out_s[di, e, i, j] = st
@@ -54,22 +65,47 @@ def sweep(
     """Evaluate designs (nd, 4) x envs x w x w. Returns (first_time, min_dist, status, steps)."""
     designs, w, starts, (out_t, out_d, out_s, out_n) = sweep_arrays(designs, w, starts)
     with numba.parallel_chunksize(_CHUNK):
-        _sweep(designs, w, starts, float(radius), float(horizon), int(method), float(rtol),
-               float(atol), float(dt), int(max_steps), out_t, out_d, out_s, out_n)  # fmt: skip
+        _sweep(
+            designs,
+            w,
+            starts,
+            float(radius),
+            float(horizon),
+            int(method),
+            float(rtol),
+            float(atol),
+            float(dt),
+            int(max_steps),
+            out_t,
+            out_d,
+            out_s,
+            out_n,
+        )
     return out_t, out_d, out_s, out_n
 
 
 @numba.njit(parallel=True, cache=True)
-def _points(designs, starts, di, ei, w1, w2, radius, horizon, method, rtol, atol, dt, max_steps,
-            out_t, out_d, out_s):  # fmt: skip
+def _points(designs, starts, di, ei, w1, w2, radius, horizon, method, rtol, atol, dt, max_steps, out_t, out_d, out_s):
     for k in numba.prange(di.shape[0]):
         d = di[k]
         e = ei[k]
         ft, dm, st, _ = _trajectory(
-            starts[e, 0], starts[e, 1],
-            designs[d, 0], designs[d, 1], designs[d, 2], designs[d, 3],
-            w1[k], w2[k], radius, horizon, method, rtol, atol, dt, max_steps,
-        )  # fmt: skip
+            starts[e, 0],
+            starts[e, 1],
+            designs[d, 0],
+            designs[d, 1],
+            designs[d, 2],
+            designs[d, 3],
+            w1[k],
+            w2[k],
+            radius,
+            horizon,
+            method,
+            rtol,
+            atol,
+            dt,
+            max_steps,
+        )
         out_t[k] = ft
         out_d[k] = dm
         out_s[k] = st
@@ -101,12 +137,30 @@ def points(
     a = np.ascontiguousarray(w1, dtype=np.float64)
     b = np.ascontiguousarray(w2, dtype=np.float64)
     if not (di.shape == ei.shape == a.shape == b.shape) or di.ndim != 1:
-        raise ValueError(f"points: design_idx, env_idx, w1, w2 must be 1-d of one length, got "
-                         f"{di.shape}, {ei.shape}, {a.shape}, {b.shape}")  # fmt: skip
+        raise ValueError(
+            f"points: design_idx, env_idx, w1, w2 must be 1-d of one length, got "
+            f"{di.shape}, {ei.shape}, {a.shape}, {b.shape}"
+        )
     n = di.shape[0]
     out_t, out_d, out_s = np.empty(n), np.empty(n), np.empty(n, dtype=np.int8)
     if n:
         with numba.parallel_chunksize(_CHUNK):
-            _points(designs, starts, di, ei, a, b, float(radius), float(horizon), int(method),
-                    float(rtol), float(atol), float(dt), int(max_steps), out_t, out_d, out_s)  # fmt: skip
+            _points(
+                designs,
+                starts,
+                di,
+                ei,
+                a,
+                b,
+                float(radius),
+                float(horizon),
+                int(method),
+                float(rtol),
+                float(atol),
+                float(dt),
+                int(max_steps),
+                out_t,
+                out_d,
+                out_s,
+            )
     return out_t, out_d, out_s

@@ -43,8 +43,9 @@ def _kernel() -> Any:
     trajectory = model.build(cuda.jit(device=True))
 
     @cuda.jit
-    def _sweep(designs, w, starts, radius, horizon, method, rtol, atol, dt, max_steps, counter,
-               out_t, out_d, out_s, out_n):  # fmt: skip
+    def _sweep(
+        designs, w, starts, radius, horizon, method, rtol, atol, dt, max_steps, counter, out_t, out_d, out_s, out_n
+    ):
         m = w.shape[0]
         mm = m * m
         per_design = starts.shape[0] * mm
@@ -58,10 +59,22 @@ def _kernel() -> Any:
             i = r2 // m
             j = r2 - i * m
             ft, dm, st, n = trajectory(
-                starts[e, 0], starts[e, 1],
-                designs[di, 0], designs[di, 1], designs[di, 2], designs[di, 3],
-                w[i], w[j], radius, horizon, method, rtol, atol, dt, max_steps,
-            )  # fmt: skip
+                starts[e, 0],
+                starts[e, 1],
+                designs[di, 0],
+                designs[di, 1],
+                designs[di, 2],
+                designs[di, 3],
+                w[i],
+                w[j],
+                radius,
+                horizon,
+                method,
+                rtol,
+                atol,
+                dt,
+                max_steps,
+            )
             out_t[di, e, i, j] = ft
             out_d[di, e, i, j] = dm
             out_s[di, e, i, j] = st
@@ -112,10 +125,19 @@ def sweep(
     kernel = _kernel()
     d_out = [cuda.device_array(shape, dtype=a.dtype) for a in (out_t, out_d, out_s, out_n)]
     args = (
-        cuda.to_device(designs), cuda.to_device(w), cuda.to_device(starts), np.float64(radius),
-        np.float64(horizon), np.int64(method), np.float64(rtol), np.float64(atol), np.float64(dt),
-        np.int64(max_steps), cuda.to_device(np.zeros(1, dtype=np.int64)), *d_out,
-    )  # fmt: skip
+        cuda.to_device(designs),
+        cuda.to_device(w),
+        cuda.to_device(starts),
+        np.float64(radius),
+        np.float64(horizon),
+        np.int64(method),
+        np.float64(rtol),
+        np.float64(atol),
+        np.float64(dt),
+        np.int64(max_steps),
+        cuda.to_device(np.zeros(1, dtype=np.int64)),
+        *d_out,
+    )
     blocks = _grid_blocks(kernel, args, total)
     kernel[blocks, _THREADS_PER_BLOCK](*args)
     cuda.synchronize()

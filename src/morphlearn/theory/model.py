@@ -270,8 +270,23 @@ def trajectory(x0, y0, l1x, l1y, l2x, l2y, w1, w2, radius, horizon, method, rtol
     return _dp5_trajectory(y, dmin, l1x, l1y, l2x, l2y, w1, w2, radius, horizon, rtol, atol, max_steps)
 
 
-_FUNCS = ("rhs", "_lin1", "_lin2", "_lin3", "_lin4", "_lin5", "_err_norm", "_chord", "_finite", "_normalise",
-          "_rk4_step", "_dp5_step", "_rk4_trajectory", "_dp5_trajectory", "trajectory")  # fmt: skip
+_FUNCS = (
+    "rhs",
+    "_lin1",
+    "_lin2",
+    "_lin3",
+    "_lin4",
+    "_lin5",
+    "_err_norm",
+    "_chord",
+    "_finite",
+    "_normalise",
+    "_rk4_step",
+    "_dp5_step",
+    "_rk4_trajectory",
+    "_dp5_trajectory",
+    "trajectory",
+)
 
 
 def build(jit: Callable[[Any], Any]) -> Callable[..., tuple[float, float, int, int]]:

@@ -62,8 +62,10 @@ class Theory(Model):
         g = grid.designs
         designs = g.representatives() if sw["mirror_symmetry"] else np.arange(g.size)
         if sw["shards"] > len(designs):
-            raise ConfigError(f"sweep.shards = {sw['shards']} exceeds the {len(designs)} designs evaluated; "
-                              f"allowed: 1..{len(designs)}")  # fmt: skip
+            raise ConfigError(
+                f"sweep.shards = {sw['shards']} exceeds the {len(designs)} designs evaluated; "
+                f"allowed: 1..{len(designs)}"
+            )
         return TheorySettings(
             enabled=bool(th["enabled"]),
             params=TheoryParams.from_config(th),
@@ -100,8 +102,9 @@ class Theory(Model):
     def evaluate(self, s: Settings, designs: np.ndarray, done: Done | None = None) -> list[DesignResult]:
         from morphlearn.theory import evaluate
 
-        return evaluate(s.grid.designs.coords(designs), self.weights(s), self.settings(s).params,
-                        progress=True, done=done)  # fmt: skip
+        return evaluate(
+            s.grid.designs.coords(designs), self.weights(s), self.settings(s).params, progress=True, done=done
+        )
 
     def backend(self, s: Settings) -> dict[str, str]:
         """CPU and CUDA may differ in boundary cases, so the merge records and compares them."""
@@ -131,14 +134,17 @@ class Theory(Model):
 
     def describe(self, science: Mapping[str, Any], n_designs: int, m: int) -> str:
         g, th = science.get("grid", {}), science.get("theory", {})
-        tol = (f"rtol = atol = {th.get('rtol')}" if th.get("integrator") == "dp5" else f"dt = {th.get('dt')}")
-        return (f"grid {g.get('positions_per_axis')} positions per axis per sensor, {g.get('weights')} "
-                f"weights per synapse; r = {th.get('r')}, T = {th.get('horizon')}, success radius "
-                f"{th.get('success_radius')}, integrator {th.get('integrator')} ({tol}), step cap "
-                f"{th.get('max_steps')}, mirror symmetry {science.get('mirror_symmetry')}")  # fmt: skip
+        tol = f"rtol = atol = {th.get('rtol')}" if th.get("integrator") == "dp5" else f"dt = {th.get('dt')}"
+        return (
+            f"grid {g.get('positions_per_axis')} positions per axis per sensor, {g.get('weights')} "
+            f"weights per synapse; r = {th.get('r')}, T = {th.get('horizon')}, success radius "
+            f"{th.get('success_radius')}, integrator {th.get('integrator')} ({tol}), step cap "
+            f"{th.get('max_steps')}, mirror symmetry {science.get('mirror_symmetry')}"
+        )
 
-    def evaluate_one(self, l1: tuple[float, float], l2: tuple[float, float], w: np.ndarray,
-                     a: argparse.Namespace) -> DesignResult:  # fmt: skip
+    def evaluate_one(
+        self, l1: tuple[float, float], l2: tuple[float, float], w: np.ndarray, a: argparse.Namespace
+    ) -> DesignResult:
         from morphlearn.cli import UsageError
         from morphlearn.theory import evaluate
 
@@ -146,8 +152,10 @@ class Theory(Model):
         # RK4 takes horizon / dt steps: the step cap (meant for the adaptive integrator) follows.
         steps = TheoryParams.max_steps if a.dt is None else max(TheoryParams.max_steps, math.ceil(horizon / a.dt))
         if steps > MAX_RK4_STEPS:
-            raise UsageError(f"--dt {a.dt} needs {steps} RK4 steps per trajectory over the horizon {horizon}; "
-                             f"allowed: --dt >= {horizon / MAX_RK4_STEPS:g}")  # fmt: skip
+            raise UsageError(
+                f"--dt {a.dt} needs {steps} RK4 steps per trajectory over the horizon {horizon}; "
+                f"allowed: --dt >= {horizon / MAX_RK4_STEPS:g}"
+            )
         p = TheoryParams(
             r=a.r if a.r is not None else CLI_R,
             horizon=horizon,

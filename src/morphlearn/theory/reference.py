@@ -82,8 +82,9 @@ def reference_trajectory(
 
     z0 = [float(start[0]), float(start[1]), 0.0]
     try:
-        sol = solve_ivp(f, (0.0, horizon), z0, method=method, rtol=tol, atol=tol,
-                        events=(hit, approach), dense_output=False)  # fmt: skip
+        sol = solve_ivp(
+            f, (0.0, horizon), z0, method=method, rtol=tol, atol=tol, events=(hit, approach), dense_output=False
+        )
     except _EvaluationCapError:
         return ReferenceTrajectory(float("nan"), float("nan"), STATUS_STEP_CAP, np.zeros(0), np.zeros((0, 3)))
     status = STATUS_OK if sol.status >= 0 else STATUS_STEP_UNDERFLOW

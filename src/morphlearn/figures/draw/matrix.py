@@ -37,8 +37,9 @@ def _weight_axes(ax: Axes) -> None:
 def overlap_image(ax: Axes, overlap: np.ndarray, weights: np.ndarray, title: str) -> AxesImage:
     """The overlap matrix O (m, m) indexed [i_w1, i_w2]."""
     cmap, norm = overlap_cmap()
-    im = ax.imshow(np.asarray(overlap).T, origin="lower", extent=_extent(weights), cmap=cmap,
-                   norm=norm, interpolation="nearest")  # fmt: skip
+    im = ax.imshow(
+        np.asarray(overlap).T, origin="lower", extent=_extent(weights), cmap=cmap, norm=norm, interpolation="nearest"
+    )
     _weight_axes(ax)
     ax.set_title(title)
     return im
@@ -58,24 +59,39 @@ PAIR_COLORS = ("#f2f2f2", "#4c72b0", "#e8a33d", "#00b3a4")
 def success_image(ax: Axes, success: np.ndarray, weights: np.ndarray, title: str, color: str) -> AxesImage:
     """One environment's binary success matrix (m, m) indexed [i_w1, i_w2]: ``color`` where solved."""
     cmap = colors.ListedColormap([PAIR_COLORS[0], color])
-    im = ax.imshow(np.asarray(success, int).T, origin="lower", extent=_extent(weights), cmap=cmap,
-                   norm=colors.BoundaryNorm([-0.5, 0.5, 1.5], 2), interpolation="nearest")  # fmt: skip
+    im = ax.imshow(
+        np.asarray(success, int).T,
+        origin="lower",
+        extent=_extent(weights),
+        cmap=cmap,
+        norm=colors.BoundaryNorm([-0.5, 0.5, 1.5], 2),
+        interpolation="nearest",
+    )
     _weight_axes(ax)
     ax.set_title(title)
     return im
 
 
-def success_pair(ax: Axes, s_a: np.ndarray, s_b: np.ndarray, weights: np.ndarray, names: tuple[str, str],
-                 title: str) -> list[patches.Patch]:  # fmt: skip
+def success_pair(
+    ax: Axes, s_a: np.ndarray, s_b: np.ndarray, weights: np.ndarray, names: tuple[str, str], title: str
+) -> list[patches.Patch]:
     """Two environments' binary success matrices overlapped: neither, A only, B only, both.
 
     Returns the legend handles (with the count of controllers in each category) for the caller
     to place."""
     cat = np.asarray(s_a, int) + 2 * np.asarray(s_b, int)
     labels = ("neither", f"{names[0]} only", f"{names[1]} only", f"both: {names[0]} ∩ {names[1]}")
-    ax.imshow(cat.T, origin="lower", extent=_extent(weights), cmap=colors.ListedColormap(PAIR_COLORS),
-              norm=colors.BoundaryNorm(np.arange(-0.5, 4.0, 1.0), 4), interpolation="nearest")  # fmt: skip
+    ax.imshow(
+        cat.T,
+        origin="lower",
+        extent=_extent(weights),
+        cmap=colors.ListedColormap(PAIR_COLORS),
+        norm=colors.BoundaryNorm(np.arange(-0.5, 4.0, 1.0), 4),
+        interpolation="nearest",
+    )
     _weight_axes(ax)
     ax.set_title(title)
-    return [patches.Patch(facecolor=c, edgecolor="0.4", label=f"{lab} ({int((cat == k).sum())})")
-            for k, (c, lab) in enumerate(zip(PAIR_COLORS, labels, strict=True))]  # fmt: skip
+    return [
+        patches.Patch(facecolor=c, edgecolor="0.4", label=f"{lab} ({int((cat == k).sum())})")
+        for k, (c, lab) in enumerate(zip(PAIR_COLORS, labels, strict=True))
+    ]

@@ -19,15 +19,31 @@ from morphlearn.theory.reference import ReferenceTrajectory
 ENV_COLORS = ("#1f77b4", "#2ca02c", "#d62728", "#9467bd")
 
 
-def trajectory_panel(ax: Axes, trs: Sequence[ReferenceTrajectory], design: tuple, r: float, radius: float,
-                     title: str, near: float | None = None) -> None:  # fmt: skip
+def trajectory_panel(
+    ax: Axes,
+    trs: Sequence[ReferenceTrajectory],
+    design: tuple,
+    r: float,
+    radius: float,
+    title: str,
+    near: float | None = None,
+) -> None:
     """The four environments' paths with the light at the origin; starts drawn as small robots."""
     lim = r + 1.6
     for k, (tr, ang) in enumerate(zip(trs, ENV_ANGLES_DEG, strict=True)):
         col = ENV_COLORS[k]
         ax.plot(tr.path[:, 0], tr.path[:, 1], color=col, lw=1.1, label=f"light at {ang}°", zorder=2)
-        robot(ax, design[0], design[1], xy=(tr.path[0, 0], tr.path[0, 1]), heading=0.0, scale=0.55,
-              sensor_labels=False, lw=0.8, zorder=4)  # fmt: skip
+        robot(
+            ax,
+            design[0],
+            design[1],
+            xy=(tr.path[0, 0], tr.path[0, 1]),
+            heading=0.0,
+            scale=0.55,
+            sensor_labels=False,
+            lw=0.8,
+            zorder=4,
+        )
         if math.isfinite(tr.first_time):
             i = int(np.searchsorted(tr.t, tr.first_time))
             i = min(i, len(tr.t) - 1)
@@ -50,20 +66,28 @@ def trajectory_panel(ax: Axes, trs: Sequence[ReferenceTrajectory], design: tuple
 def trajectory_legend(fig: Figure, near: float | None) -> None:
     from matplotlib.lines import Line2D
 
-    h = [Line2D([], [], color=c, lw=1.5, label=f"light at {a}°") for c, a in zip(ENV_COLORS, ENV_ANGLES_DEG,
-                                                                                   strict=True)]  # fmt: skip
-    h += [Line2D([], [], ls="", marker="o", mfc="white", mec="0.2", label="first success"),
-          Line2D([], [], ls="", marker="x", color="0.2", label="position at T"),
-          patches.Patch(facecolor=LIGHT_COLOR, edgecolor="#b38f00", label="light (success radius)")]  # fmt: skip
+    h = [
+        Line2D([], [], color=c, lw=1.5, label=f"light at {a}°") for c, a in zip(ENV_COLORS, ENV_ANGLES_DEG, strict=True)
+    ]
+    h += [
+        Line2D([], [], ls="", marker="o", mfc="white", mec="0.2", label="first success"),
+        Line2D([], [], ls="", marker="x", color="0.2", label="position at T"),
+        patches.Patch(facecolor=LIGHT_COLOR, edgecolor="#b38f00", label="light (success radius)"),
+    ]
     if near is not None:
         h.append(Line2D([], [], ls=":", color="0.5", label=f"'near' radius {near:g}"))
     # "outside": constrained layout keeps room for it below the panels.
     fig.legend(handles=h, loc="outside lower center", ncol=4, frameon=False)
 
 
-
-def controller_panels(axes: Sequence[Axes], design: data.Design, chosen: Sequence[data.Controller],
-                      settings: data.TheorySettings, near: float, letters: str = "ABC") -> list[str]:  # fmt: skip
+def controller_panels(
+    axes: Sequence[Axes],
+    design: data.Design,
+    chosen: Sequence[data.Controller],
+    settings: data.TheorySettings,
+    near: float,
+    letters: str = "ABC",
+) -> list[str]:
     """One trajectory panel per chosen controller (Figs. 4, 5); returns one caption line per panel."""
     lines = []
     for ax, c, letter in zip(axes, chosen, letters, strict=False):
@@ -73,13 +97,22 @@ def controller_panels(axes: Sequence[Axes], design: data.Design, chosen: Sequenc
         solved = sum(math.isfinite(t.first_time) for t in trs)
         status = "generalist" if c.generalist else f"solves {c.overlap} of 4"
         target = "" if c.target is None else f"paper: ({c.target[0]:g}, {c.target[1]:g}); "
-        trajectory_panel(ax, trs, design, settings.r, settings.radius,
-                         f"$(w_1, w_2) = ({c.w1:.3g}, {c.w2:.3g})$, {status}\n"
-                         f"{target}{'stays near' if ok else 'does not stay near'}", near=near)  # fmt: skip
+        trajectory_panel(
+            ax,
+            trs,
+            design,
+            settings.r,
+            settings.radius,
+            f"$(w_1, w_2) = ({c.w1:.3g}, {c.w2:.3g})$, {status}\n"
+            f"{target}{'stays near' if ok else 'does not stay near'}",
+            near=near,
+        )
         panel_letter(ax, letter)
         far_s = ", ".join("none" if not math.isfinite(x) else f"{x:.2f}" for x in far)
-        lines.append(f"- **{letter}:** {c.describe()}; on this grid it solves {c.overlap} of 4 environments "
-                     f"(reference integration: {solved} of 4); largest distance from the light after the first "
-                     f"success, per environment 45/135/225/315°: {far_s}; "
-                     f"{'stays' if ok else 'does not stay'} near the source.")  # fmt: skip
+        lines.append(
+            f"- **{letter}:** {c.describe()}; on this grid it solves {c.overlap} of 4 environments "
+            f"(reference integration: {solved} of 4); largest distance from the light after the first "
+            f"success, per environment 45/135/225/315°: {far_s}; "
+            f"{'stays' if ok else 'does not stay'} near the source."
+        )
     return lines
