@@ -97,7 +97,7 @@ def test_rank_and_mirror(paper: explore.Explorer) -> None:
     assert paper.mirror(canonical) == canonical
     with pytest.raises(explore.ExploreError, match="allowed: 0 to 6560"):
         paper.coords(6561)
-    with pytest.raises(explore.ExploreError, match="l1.x=0.3 is not on the 9-point grid"):
+    with pytest.raises(explore.ExploreError, match=r"l1\.x=0\.3 is not on the 9-point grid"):
         paper.design_of((0.3, 0.5), (0.5, 0.5))
 
 

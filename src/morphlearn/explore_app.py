@@ -110,9 +110,11 @@ def draw_trajectories(fig: Figure, ex: explore.Explorer, design: int, w: tuple[f
                                 f"first success t ({s.horizon:g} max): {times}")  # fmt: skip
     ax.title.set_fontsize(9)
     trajectory.trajectory_legend(fig, None)
-    # the paper figures' legend in two columns: its four are wider than this one panel
+    # the paper figures' legend in two columns (its four are wider than this one panel), and fixed
+    # margins: under ipympl, constrained layout cuts the top of this two-line title
     legend = fig.legends.pop()
-    fig.legend(handles=legend.legend_handles, loc="outside lower center", ncols=2, frameon=False, fontsize=9)
+    fig.legend(handles=legend.legend_handles, loc="lower center", ncols=2, frameon=False, fontsize=9)
+    fig.subplots_adjust(left=0.13, right=0.97, top=0.89, bottom=0.24)
 
 
 def describe_html(info: dict[str, Any]) -> str:
@@ -125,7 +127,7 @@ def describe_html(info: dict[str, Any]) -> str:
         rows += [
             ("M_L (bundle)", f"{t['M_L']:.4g} (rank {rank['M_L']} of {info['designs']})"),
             ("M_CF (bundle)", f"{t['M_CF']:.4g} (rank {rank['M_CF']} of {info['designs']})"),
-            ("generalists / at least one", f"{t['generalists']} / {t['at_least_one']}; flagged {t['flagged']}"),
+            ("generalists", f"{t['generalists']}; at least one env.: {t['at_least_one']}; flagged {t['flagged']}"),
         ]
     src = "the bundle's arrays" if info["source"] == "bundle" else f"computed live in {info['seconds']:.2f} s"
     check = {True: "; equals the bundle's metrics", False: "; DIFFERS from the bundle's metrics",
@@ -136,9 +138,9 @@ def describe_html(info: dict[str, Any]) -> str:
     ml1, ml2 = info["mirror_coords"]
     rows.append(("mirror image", f"{info['mirror']}: l1 {_fmt(ml1)}, l2 {_fmt(ml2)}"
                  + (f"; M_L {mt['M_L']:.4g}, M_CF {mt['M_CF']:.4g}" if mt else "")))  # fmt: skip
-    body = "".join(f"<tr><th style='text-align:left;padding-right:8px'>{html.escape(k)}</th>"
-                   f"<td>{html.escape(v)}</td></tr>" for k, v in rows)  # fmt: skip
-    return f"<table>{body}</table>"
+    body = "".join(f"<tr><th style='text-align:left;vertical-align:top;padding-right:8px;white-space:nowrap'>"
+                   f"{html.escape(k)}</th><td>{html.escape(v)}</td></tr>" for k, v in rows)  # fmt: skip
+    return f"<table style='font-size:12px;line-height:1.35'>{body}</table>"
 
 
 class App:
@@ -161,7 +163,7 @@ class App:
         with plt.ioff():  # figures are shown as widgets, not as cell outputs
             self.fig_maps = plt.figure(figsize=(10.5, 4.6), layout="constrained")
             self.fig_design = plt.figure(figsize=(9.5, 3.4), layout="constrained")
-            self.fig_traj = plt.figure(figsize=(5.4, 6.2), layout="constrained")
+            self.fig_traj = plt.figure(figsize=(5.4, 6.2))
         for f in (self.fig_maps, self.fig_design, self.fig_traj):
             _canvas_options(f)
         self.w_source = W.Dropdown(options=labels, value=source or labels[0], description="results")
@@ -171,7 +173,8 @@ class App:
         self.w_l2 = W.Dropdown(description="sensor 2")
         self.w_best = W.Dropdown(options=["-", "best M_L", "best M_CF", "canonical"], value="-",
                                  description="go to")  # fmt: skip
-        self.w_info = W.HTML(layout=W.Layout(height="230px", overflow="auto"))  # fixed: the figure below stays put
+        # a fixed height: the figure below stays put when the text changes
+        self.w_info = W.HTML(layout=W.Layout(height="190px", overflow="auto", margin="0 0 8px 0"))
         self.w_status = W.HTML()
         self.w_status.add_class("ml-status")  # the browser test waits on this
         self.w_info.add_class("ml-info")
@@ -289,7 +292,7 @@ class App:
     def _status(self, text: str, stage: str = "done") -> None:
         # data-*: what the browser test reads (stage: "landscape" drawn, or "done" with the
         # trajectories); the text: what a person reads
-        self.w_status.value = (f"<span data-design='{self.design}' data-w='{self.w}' data-stage='{stage}'>"
+        self.w_status.value = (f"<span data-design='{self.design}' data-w='{self.w}' data-stage='{stage}''>"
                                f"{html.escape(text)}</span>")  # fmt: skip
 
     # -- events ------------------------------------------------------------------------------------
@@ -335,11 +338,11 @@ class App:
                 display(fig)
             return out
 
-        head = W.HTML("<b>morphlearn explorer</b>: click a cell of a map (or pick the two sensor positions) for a "
-                      "design's overlap matrix; click a controller in the matrix for its trajectories.")
+        head = W.HTML("Click a cell of a map (or pick the two sensor positions) for a design's overlap matrix; "
+                      "click a controller in the matrix for its trajectories.")
         controls = W.HBox([self.w_source, self.w_l1, self.w_l2])
         left = W.VBox([canvas(self.fig_maps), canvas(self.fig_design)])
-        right = W.VBox([self.w_status, self.w_info, canvas(self.fig_traj)], layout=W.Layout(width="600px"))
+        right = W.VBox([self.w_status, self.w_info, canvas(self.fig_traj)], layout=W.Layout(width="620px"))
         return W.VBox([head, controls, W.HBox([self.w_weights, self.w_best]), W.HBox([left, right])])
 
 
@@ -347,11 +350,14 @@ def _push(fig: Figure) -> None:
     """Show a figure's new drawing now. ipympl: draw() sends the image at once, while the callback
     goes on (to the trajectories); draw_idle() asks the page for a round trip that the busy kernel
     answers only when the callback ends. Before the page has shown the canvas (``syncing_data_url``)
-    it must be draw_idle(): an image sent then reaches the page as a broken data URL (ipympl 0.10)."""
+    it must be draw_idle(): an image sent then reaches the page as a broken data URL (ipympl 0.10).
+    Always a full image, not a diff against the last one sent: a diff applied to a page whose image
+    is not that one (a draw the page never showed) leaves stale pixels."""
     c = fig.canvas
     if getattr(c, "syncing_data_url", False):
         c.draw_idle()
     else:
+        c._force_full = True
         c.draw()
 
 
