@@ -158,6 +158,9 @@ def test_app_selects_by_click_and_by_dropdown(tmp_path: Path) -> None:
     col, row = ex.map_cell(target)
     app._on_map_click(type("E", (), {"inaxes": app.fig_maps.axes[0], "xdata": col, "ydata": row})())
     assert app.design == target and app.w_l1.value == (0.5, 0.5) and app.w_l2.value == (0.5, -0.5)
+    colorbar = next(a for a in app.fig_maps.axes if a not in app.fig_maps.axes[:2] and a.get_label() == "<colorbar>")
+    app._on_map_click(type("E", (), {"inaxes": colorbar, "xdata": 0.5, "ydata": 0.1})())
+    assert app.design == target  # a click on a colour bar selects nothing
     # the dropdowns
     app.w_l2.value = (0.5, 0.25)
     assert app.design == ex.design_of((0.5, 0.5), (0.5, 0.25))

@@ -292,7 +292,7 @@ class App:
     def _status(self, text: str, stage: str = "done") -> None:
         # data-*: what the browser test reads (stage: "landscape" drawn, or "done" with the
         # trajectories); the text: what a person reads
-        self.w_status.value = (f"<span data-design='{self.design}' data-w='{self.w}' data-stage='{stage}''>"
+        self.w_status.value = (f"<span data-design='{self.design}' data-w='{self.w}' data-stage='{stage}'>"
                                f"{html.escape(text)}</span>")  # fmt: skip
 
     # -- events ------------------------------------------------------------------------------------
@@ -313,11 +313,15 @@ class App:
         self.select(d)
 
     def _on_map_click(self, event: Any) -> None:
-        if event.inaxes is None or event.xdata is None:
+        # the two maps, not their colour bars (whose data coordinates are metric values)
+        if event.inaxes is None or event.inaxes not in self._marks_axes() or event.xdata is None:
             return
         d = self.ex.design_at(event.xdata, event.ydata)
         if d is not None:
             self.select(d)
+
+    def _marks_axes(self) -> list[Any]:
+        return [m.axes for m in self._marks]
 
     def _on_matrix_click(self, event: Any) -> None:
         axes = self.fig_design.axes
