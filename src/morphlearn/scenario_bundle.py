@@ -84,7 +84,10 @@ def build(scen_dir: str | Path, out_dir: str | Path, made_by: dict[str, Any]) ->
         cost = run_cost(scen_dir)
         if len(cost):
             cost.to_csv(tmp / bundlemod.COST, index=False, float_format="%.2f")
-        manifest: dict[str, Any] = {"made_by": made_by, "scenarios": names, "files": {}}
+        # which commits simulated each shard (the merged stores' record), which may differ from the
+        # commit that made the bundle
+        sims = {p.parent.name: bundlemod._simulated_by(p) for p in sorted(scen_dir.glob("_sims/*/merged.zarr"))}
+        manifest: dict[str, Any] = {"made_by": made_by, "scenarios": names, "simulated_by": sims, "files": {}}
         (tmp / "README.md").write_text(readme(manifest, cost))
         manifest["files"] = {str(p.relative_to(tmp)): provenance.sha256_file(p) for p in sorted(tmp.rglob("*"))
                              if p.is_file() and p.name != bundlemod.MANIFEST}  # fmt: skip
@@ -119,6 +122,11 @@ def readme(manifest: dict[str, Any], cost: pd.DataFrame) -> str:
         "Re-render the figure from this folder alone (papermill, as the rule `scenario_report`), then compare",
         "every file with `bundle.json`: `python -m morphlearn.scenario_bundle render <folder>`.",
     ]
+    sims = manifest.get("simulated_by", {})
+    if sims:
+        lines += ["", "Simulations (`_sims/<id>`, left out) and the commits that simulated their shards:", ""]
+        lines += [f"- `{sid}`: " + ", ".join(f"{k}: {v}" for k, v in by.get("git_commits", {}).items())
+                  for sid, by in sims.items()]  # fmt: skip
     if len(cost):
         lines += ["", "What the run cost (sums of the jobs' benchmark files; wall seconds add up jobs that ran "
                   "side by side; the machine was shared):", "", *bundlemod.cost_lines(cost)]  # fmt: skip
