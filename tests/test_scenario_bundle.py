@@ -28,7 +28,7 @@ def test_committed_bundle_checks_out() -> None:
 
 
 def test_figure_renders_from_the_bundle_alone_to_the_same_bytes(tmp_path: Path) -> None:
-    copy = tmp_path / "scenario-set"
+    copy = tmp_path / "results" / "scenario-set"  # a bundle lives in <project>/results/<name>
     shutil.copytree(BUNDLE, copy, ignore=shutil.ignore_patterns("logs"))
     for name in ("comparison.png", "comparison.pdf", "comparison.caption.md"):
         (copy / name).unlink()
@@ -49,12 +49,13 @@ def test_build_round_trip_and_refusal(tmp_path: Path) -> None:
     """A bundle built from a scenario folder (here: the committed bundle, which has its layout)
     holds the same data files and checks out."""
     made_by = {"results_dir": "x", "command": scenario_bundle.COMMAND, "git_commit": "test", "version": "0"}
-    out = tmp_path / "rebuilt"
-    m = scenario_bundle.build(BUNDLE, out, made_by)
+    out = tmp_path / "results" / "scenario-set"
+    m = scenario_bundle.build(BUNDLE, out, made_by, ROOT)
     assert bundle.check(out) == []
     old = json.loads((BUNDLE / "bundle.json").read_text())["files"]
-    same = {k for k in m["files"] if k not in ("README.md", bundle.COST)}
-    assert same and all(m["files"][k] == old[k] for k in same)
+    assert set(m["files"]) == set(old)
+    # the data, and the figure rendered from it, are the same bytes; the README names who made it
+    assert all(m["files"][k] == old[k] for k in old if k not in ("README.md", bundle.COST)), m["files"]
     (tmp_path / "empty").mkdir()
     with pytest.raises(bundle.BundleError, match=r"no comparison\.csv"):
         scenario_bundle.build(tmp_path / "empty", tmp_path / "never", made_by)

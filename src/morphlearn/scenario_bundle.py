@@ -37,8 +37,10 @@ from morphlearn import __version__, provenance, store
 from morphlearn import bundle as bundlemod
 
 #: Files of the scenario folder copied as they are (paths relative to it).
-TOP = ("comparison.csv", "comparison.md", "text_values.csv", "comparison.png", "comparison.pdf",
-       "comparison.caption.md")  # fmt: skip
+DATA = ("comparison.csv", "comparison.md", "text_values.csv")
+#: The figure: rendered again from the bundle's copy of the data (its caption names the data files).
+FIGURE = ("comparison.png", "comparison.pdf", "comparison.caption.md")
+TOP = DATA + FIGURE
 #: Per scenario.
 PER_SCENARIO = ("scenario.json", "summary.json", "summary.md", "theory/metrics.csv",
                 "theory/metrics.provenance.json")  # fmt: skip
@@ -65,33 +67,41 @@ def run_cost(scen_dir: Path) -> pd.DataFrame:
     return pd.DataFrame(rows, columns=["job", "wall_s", "cpu_s", "max_rss_mb"])
 
 
-def build(scen_dir: str | Path, out_dir: str | Path, made_by: dict[str, Any]) -> dict[str, Any]:
-    """Write the bundle of a finished scenario run to ``out_dir`` (replaced as a whole, atomically)."""
+def build(scen_dir: str | Path, out_dir: str | Path, made_by: dict[str, Any], root: str | Path | None = None
+          ) -> dict[str, Any]:  # fmt: skip
+    """Write the bundle of a finished scenario run to ``out_dir`` (a folder ``results/<name>``).
+
+    The data files are copied (the folder replaced as a whole, atomically); then the figure is
+    rendered from the bundle's own copies, so that its caption names them and :func:`render` gives
+    the same bytes; then ``bundle.json`` is written (a bundle whose rendering failed has none, and
+    ``check`` refuses it)."""
     scen_dir, out_dir = Path(scen_dir), Path(out_dir)
     missing = [n for n in TOP if not (scen_dir / n).is_file()]
     if missing:
         raise bundlemod.BundleError(f"{scen_dir}: no {', '.join(missing)}; run the scenarios first ({COMMAND})")
     names = scenario_names(scen_dir)
+    # which commits simulated each shard (the merged stores' record), which may differ from the
+    # commit that made the bundle
+    sims = {p.parent.name: bundlemod._simulated_by(p) for p in sorted(scen_dir.glob("_sims/*/merged.zarr"))}
+    manifest: dict[str, Any] = {"made_by": made_by, "scenarios": names, "simulated_by": sims, "files": {}}
+    cost = run_cost(scen_dir)
     with store.atomic_path(out_dir) as tmp:
         tmp.mkdir(parents=True)
-        for n in TOP:
+        for n in DATA:
             shutil.copy2(scen_dir / n, tmp / n)
         for s in names:
             for n in PER_SCENARIO:
                 if (scen_dir / s / n).is_file():
                     (tmp / s / n).parent.mkdir(parents=True, exist_ok=True)
                     shutil.copy2(scen_dir / s / n, tmp / s / n)
-        cost = run_cost(scen_dir)
         if len(cost):
             cost.to_csv(tmp / bundlemod.COST, index=False, float_format="%.2f")
-        # which commits simulated each shard (the merged stores' record), which may differ from the
-        # commit that made the bundle
-        sims = {p.parent.name: bundlemod._simulated_by(p) for p in sorted(scen_dir.glob("_sims/*/merged.zarr"))}
-        manifest: dict[str, Any] = {"made_by": made_by, "scenarios": names, "simulated_by": sims, "files": {}}
         (tmp / "README.md").write_text(readme(manifest, cost))
-        manifest["files"] = {str(p.relative_to(tmp)): provenance.sha256_file(p) for p in sorted(tmp.rglob("*"))
-                             if p.is_file() and p.name != bundlemod.MANIFEST}  # fmt: skip
-        (tmp / bundlemod.MANIFEST).write_text(json.dumps(manifest, indent=1, sort_keys=True) + "\n")
+    _render(out_dir, root)
+    listed = [p for p in sorted(out_dir.rglob("*")) if p.is_file() and p.name != bundlemod.MANIFEST
+              and "logs" not in p.relative_to(out_dir).parts]  # fmt: skip
+    manifest["files"] = {str(p.relative_to(out_dir)): provenance.sha256_file(p) for p in listed}
+    (out_dir / bundlemod.MANIFEST).write_text(json.dumps(manifest, indent=1, sort_keys=True) + "\n")
     return manifest
 
 
@@ -135,25 +145,33 @@ def readme(manifest: dict[str, Any], cost: pd.DataFrame) -> str:
     return "\n".join(lines)
 
 
-def render(out_dir: str | Path, root: str | Path | None = None) -> tuple[float, list[str]]:
-    """Re-render the comparison figure of a bundle in place (the executed notebook goes to
-    ``logs/``); returns the wall seconds and the problems :func:`morphlearn.bundle.check` then finds
-    (empty: the figure came out byte-identical)."""
-    out_dir = Path(out_dir)
-    root = Path(root) if root else Path(__file__).resolve().parents[2]
-    params = {"comparison": str(out_dir / "comparison.csv"), "scan": str(out_dir / "text_values.csv"),
-              "style": str(root / STYLE), "png": str(out_dir / "comparison.png"),
-              "pdf": str(out_dir / "comparison.pdf"), "caption": str(out_dir / "comparison.caption.md")}  # fmt: skip
+def _render(out_dir: Path, root: str | Path | None) -> float:
+    """Render the comparison figure from a bundle's files, in place (the executed notebook goes to
+    ``logs/``), as the rule ``scenario_report`` does. Paths are passed relative to the folder that
+    holds ``results/`` (the caption names them), so a bundle renders alike wherever the project is."""
+    out_dir = out_dir.resolve()
+    root = Path(root).resolve() if root else Path(__file__).resolve().parents[2]
+    cwd = out_dir.parents[1]  # <project>/results/<name>
+    rel = out_dir.relative_to(cwd)
+    params = {"comparison": str(rel / "comparison.csv"), "scan": str(rel / "text_values.csv"),
+              "style": str(root / STYLE), "png": str(rel / "comparison.png"), "pdf": str(rel / "comparison.pdf"),
+              "caption": str(rel / "comparison.caption.md")}  # fmt: skip
     (out_dir / "logs").mkdir(exist_ok=True)
     env = dict(os.environ, PYTHONPATH=os.pathsep.join(filter(None, [str(root / "src"), os.environ.get("PYTHONPATH")])))
     papermill = Path(sys.executable).with_name("papermill")
     t0 = time.perf_counter()
-    proc = subprocess.run([str(papermill), str(root / NOTEBOOK), str(out_dir / "logs" / "comparison.ipynb"),
+    proc = subprocess.run([str(papermill), str(root / NOTEBOOK), str(rel / "logs" / "comparison.ipynb"),
                            "-y", yaml.safe_dump(params, default_flow_style=True, width=10**6).strip()],
-                          capture_output=True, text=True, env=env)  # fmt: skip
-    seconds = time.perf_counter() - t0
+                          cwd=cwd, capture_output=True, text=True, env=env)  # fmt: skip
     if proc.returncode:
         raise RuntimeError(f"papermill {NOTEBOOK} failed ({proc.returncode}):\n{proc.stderr[-3000:]}")
+    return time.perf_counter() - t0
+
+
+def render(out_dir: str | Path, root: str | Path | None = None) -> tuple[float, list[str]]:
+    """Re-render the comparison figure of a bundle in place; returns the wall seconds and the
+    problems :func:`morphlearn.bundle.check` then finds (empty: the figure came out byte-identical)."""
+    seconds = _render(Path(out_dir), root)
     return seconds, bundlemod.check(out_dir)
 
 
