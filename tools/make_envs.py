@@ -21,6 +21,8 @@ ENVS = {
     "empirical": [*CORE, "pybullet", "pymoo", "matplotlib"],
     # the figure notebooks (papermill + nbconvert + a kernel), Fig. 1C's pybullet render
     "figures": [*CORE, "pybullet", "matplotlib", "seaborn", "papermill", "nbconvert", "ipykernel"],
+    # no rule: the interactive explorer (notebooks/explore.ipynb; docs/explorer.md), for conda users
+    "explorer": [*CORE, "matplotlib", "ipywidgets", "ipympl", "voila", "papermill", "ipykernel"],
 }
 
 
@@ -35,7 +37,9 @@ def lock() -> dict[str, str]:
 
 def render(name: str, pkgs: list[str], pins: dict[str, str]) -> str:
     lines = [
-        f"# Conda environment for the {name} rules (snakemake --sdm conda).",
+        f"# Conda environment for the {name} rules (snakemake --sdm conda)."
+        if name != "explorer"
+        else "# Conda environment for the interactive explorer (docs/explorer.md); no rule uses it.",
         "# Generated from requirements.lock by tools/make_envs.py: do not edit by hand.",
         f"name: morphlearn-{name}",
         "channels:",

@@ -1,0 +1,343 @@
+"""The interactive explorer's logic (notebooks/explore.ipynb; widgets in morphlearn.explore_app).
+
+Reads a committed results bundle (checked against its manifest first, as
+``morphlearn.bundle.extract_model`` does), lays every design's M_L and M_CF out as one map over
+sensor placements, and gives one design's overlap matrix: from the bundle when it holds the
+design's outcome arrays, otherwise computed live by the theory kernel with the bundle's own theory
+parameters and thresholds (timed). No plotting here, so all of it is tested headless.
+
+The map: a design is two sensor positions on an ``n x n`` grid of the body, so the ``n**4`` designs
+fill an ``n*n x n*n`` image of ``n x n`` blocks. The block at (column, row) = (i1x, i1y) is sensor
+1's position, the cell inside it at (i2x, i2y) sensor 2's: x (forward) grows to the right, y (left)
+upwards, in the blocks as inside them.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import time
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import pandas as pd
+
+from morphlearn import bundle as bundlemod
+from morphlearn import bundle_check, metrics, store
+from morphlearn import grid as gridmod
+from morphlearn.figures import data
+from morphlearn.models import MODELS, REFERENCE
+from morphlearn.theory.reference import ReferenceTrajectory
+
+#: Weight grids a live theory evaluation offers: the default run's 41 (about a second on 2 cores)
+#: and the paper's 121 (a few seconds).
+LIVE_WEIGHTS = (41, 121)
+#: The controller shown first: the paper's canonical controller of Fig. 4B (nearest controller
+#: with the highest overlap of the design's matrix).
+DEFAULT_CONTROLLER: data.Point = data.PAPER_CANONICAL_CONTROLLERS[1]
+
+
+class ExploreError(ValueError):
+    """Bad input to the explorer; the message names the value and what is allowed."""
+
+
+@dataclass(frozen=True)
+class Source:
+    """One model's results in one bundle."""
+
+    bundle: Path
+    model: str
+
+    @property
+    def label(self) -> str:
+        return f"{self.model} ({self.bundle.name})"
+
+
+def default_results_dir(start: str | Path | None = None) -> Path:
+    """The project's ``results`` folder: the nearest one holding a bundle from ``start`` (default:
+    the working directory, which is ``notebooks/`` under Voila and Jupyter) upwards."""
+    here = Path.cwd() if start is None else Path(start)
+    for d in (here, *here.resolve().parents):
+        if any((d / "results").glob(f"*/{bundlemod.MANIFEST}")):
+            return d / "results"
+    raise ExploreError(f"no results/<bundle>/{bundlemod.MANIFEST} in {here} or above it: run from the project")
+
+
+def sources(results_dir: str | Path = "results") -> list[Source]:
+    """Every model of every bundle (a folder with ``bundle.json``) under ``results_dir``."""
+    out = []
+    for b in sorted(p.parent for p in Path(results_dir).glob(f"*/{bundlemod.MANIFEST}")):
+        out += [Source(b, m) for m in MODELS if (b / m / "metrics.csv").is_file()]
+    return out
+
+
+def open_source(src: Source, *, verify: bool = True) -> data.ModelResults:
+    """A model's results from a bundle, after checking every file of the bundle against its
+    SHA-256 in ``bundle.json`` (a damaged or edited bundle is refused, naming the first problem);
+    the thresholds are the ones its metrics were computed with (``metrics.provenance.json``)."""
+    if src.model not in MODELS:
+        raise ExploreError(f"model {src.model!r}: allowed: {', '.join(MODELS)}")
+    if verify:
+        problems = bundle_check.check(src.bundle)
+        if problems:
+            raise bundlemod.BundleError(f"{src.bundle}: {len(problems)} problem(s), first: {problems[0]}")
+    prov = json.loads((src.bundle / src.model / "metrics.provenance.json").read_text())
+    res = data.load_results(src.bundle, src.model, prov["config"]["thresholds"])
+    if res is None:
+        raise FileNotFoundError(f"{src.bundle}: no {src.model}/metrics.csv and {src.model}/merged.zarr")
+    return res
+
+
+@dataclass
+class Landscape:
+    """One design's outcomes over the weight grid."""
+
+    design: int
+    coords: data.Design
+    weights: np.ndarray
+    success: np.ndarray  # (4, m, m) [env, i_w1, i_w2]
+    first_time: np.ndarray  # (4, m, m), NaN: never succeeded
+    source: str  # "bundle" or "live"
+    seconds: float | None  # the live computation's wall time (None: read from the bundle)
+
+    @property
+    def overlap(self) -> np.ndarray:
+        return metrics.overlap(self.success)
+
+    @property
+    def metrics(self) -> metrics.DesignMetrics:
+        return metrics.design_metrics(self.success)
+
+    def controller(self, w1: float, w2: float) -> tuple[int, int]:
+        """Grid indices of the controller nearest to ``(w1, w2)``."""
+        return int(np.argmin(np.abs(self.weights - w1))), int(np.argmin(np.abs(self.weights - w2)))
+
+
+class Explorer:
+    """One model's results: maps, ranks, mirror images, landscapes and trajectories."""
+
+    def __init__(self, res: data.ModelResults) -> None:
+        self.res = res
+        n = res.positions_per_axis
+        if n is None:
+            raise ExploreError(f"{res.paths.get('merged')}: its science record has no positions_per_axis")
+        self.grid = gridmod.DesignGrid(int(n))
+        self.table = res.table.set_index("design", drop=False)
+        self._held = {int(d): i for i, d in enumerate(res.ds["design"].values)}
+        self._cache: dict[tuple[int, int], Landscape] = {}
+        sci = res.science
+        # The theory model's parameters (live evaluation, trajectories); the empirical model has none.
+        self.theory_params: dict[str, Any] | None = sci.get("theory") if res.model == REFERENCE else None
+
+    # -- designs ---------------------------------------------------------------------------------
+    @property
+    def n(self) -> int:
+        return self.grid.n
+
+    @property
+    def axis(self) -> np.ndarray:
+        return self.grid.axis
+
+    def check_design(self, design: int) -> int:
+        d = int(design)
+        if not 0 <= d < self.grid.size:
+            raise ExploreError(f"design {design}: allowed: 0 to {self.grid.size - 1} ({self.n} positions per axis)")
+        return d
+
+    def design_of(self, l1: data.Point, l2: data.Point) -> int:
+        """Design index of two sensor positions of this grid (ExploreError names the bad one)."""
+        try:
+            return self.grid.index_of(tuple(l1), tuple(l2))
+        except ValueError as e:
+            raise ExploreError(f"design l1 = {tuple(l1)}, l2 = {tuple(l2)}: {e}") from None
+
+    def coords(self, design: int) -> data.Design:
+        c = self.grid.coords(self.check_design(design))
+        return (float(c[0]), float(c[1])), (float(c[2]), float(c[3]))
+
+    def mirror(self, design: int) -> int:
+        return int(self.grid.mirror(self.check_design(design)))
+
+    def held(self, design: int) -> bool:
+        """Whether the bundle holds the design's outcome arrays."""
+        return int(design) in self._held
+
+    def row(self, design: int) -> pd.Series | None:
+        d = self.check_design(design)
+        return self.table.loc[d] if d in self.table.index else None
+
+    def rank(self, design: int, by: str) -> int | None:
+        """Rank by ``by`` among the table's designs (1 = best; ties share a rank); None: not in it."""
+        if by not in ("M_L", "M_CF"):
+            raise ExploreError(f"rank by {by!r}: allowed: M_L, M_CF")
+        row = self.row(design)
+        return None if row is None else metrics.rank_of(self.res.table, row, by)
+
+    def best(self, by: str) -> int:
+        return int(self.res.best(by).design)
+
+    # -- the map ---------------------------------------------------------------------------------
+    def map_image(self, metric: str) -> np.ndarray:
+        """(n*n, n*n) image of ``metric`` over designs, [row, column] as in the module docstring;
+        NaN where the table has no design (the empirical sweep may hold only some)."""
+        if metric not in ("M_L", "M_CF"):
+            raise ExploreError(f"map metric {metric!r}: allowed: M_L, M_CF")
+        n = self.n
+        img = np.full((n * n, n * n), np.nan)
+        t = self.res.table
+        i = self.grid.indices(t.design.to_numpy())
+        img[i[:, 1] * n + i[:, 3], i[:, 0] * n + i[:, 2]] = t[metric].to_numpy(dtype=float)
+        return img
+
+    def map_cell(self, design: int) -> tuple[int, int]:
+        """(column, row) of a design in :meth:`map_image`."""
+        i = self.grid.indices(self.check_design(design))
+        return int(i[0] * self.n + i[2]), int(i[1] * self.n + i[3])
+
+    def design_at(self, x: float, y: float) -> int | None:
+        """The design under map image coordinates ``(x, y)`` (pixel centres at integers, as
+        ``imshow`` draws them); None outside the map."""
+        n = self.n
+        col, row = math.floor(x + 0.5), math.floor(y + 0.5)
+        if not (0 <= col < n * n and 0 <= row < n * n):
+            return None
+        return int(self.grid.flat(np.array([col // n, row // n, col % n, row % n])))
+
+    # -- landscapes --------------------------------------------------------------------------------
+    def landscape(self, design: int, live_weights: int = LIVE_WEIGHTS[0]) -> Landscape:
+        """The design's outcomes: the bundle's arrays when it holds them, else (theory only) a live
+        evaluation on ``live_weights`` x ``live_weights`` controllers, timed and cached."""
+        d = self.check_design(design)
+        if d in self._held:
+            return self._from_bundle(d)
+        if self.theory_params is None:
+            raise ExploreError(
+                f"{self.res.model}: design {d} ({data.design_label(*self.coords(d))}) is not held in "
+                f"{self.res.paths.get('merged')} ({len(self._held)} designs are), and only the theory "
+                "model is computed live"
+            )
+        if live_weights not in LIVE_WEIGHTS:
+            raise ExploreError(f"live weights {live_weights!r}: allowed: {', '.join(map(str, LIVE_WEIGHTS))}")
+        key = (d, live_weights)
+        if key not in self._cache:
+            self._cache[key] = self._live(d, live_weights)
+        return self._cache[key]
+
+    def _from_bundle(self, d: int) -> Landscape:
+        arrays = store.read_design(self.res.ds, self._held[d])  # verified against the store's digests
+        succ = self.res.success(self._held[d])
+        return Landscape(d, self.coords(d), self.res.weights, succ, arrays["first_time"], "bundle", None)
+
+    def _live(self, d: int, m: int) -> Landscape:
+        from morphlearn.theory import TheoryParams, evaluate
+
+        params = TheoryParams.from_config({**self.theory_params, "backend": "cpu"})
+        w = gridmod.weights(m)
+        t0 = time.perf_counter()
+        (res,) = evaluate(self.grid.coords(np.array([d])), w, params)
+        seconds = time.perf_counter() - t0
+        th = self.res.thresholds
+        succ = np.isfinite(res.first_time) if th is None else metrics.success(res.first_time, res.min_dist, th)
+        return Landscape(d, self.coords(d), w, succ, res.first_time, "live", seconds)
+
+    def matches_table(self, land: Landscape) -> bool | None:
+        """Whether the landscape's generalist and at-least-one counts equal the metrics table's
+        (None when its weight grid differs from the bundle's, so the counts cannot agree)."""
+        row = self.row(land.design)
+        if row is None or len(land.weights) != len(self.res.weights):
+            return None
+        dm = land.metrics
+        return (dm.generalists, dm.at_least_one) == (int(row.generalists), int(row.at_least_one))
+
+    def default_controller(self, land: Landscape) -> tuple[float, float]:
+        (c,) = data.pick_controllers(land.overlap, land.weights, [DEFAULT_CONTROLLER])
+        return c.w1, c.w2
+
+    # -- trajectories ------------------------------------------------------------------------------
+    def settings(self) -> data.TheorySettings:
+        """What a theory trajectory needs: the bundle's light distance and tolerance, and the
+        horizon and success radius its metrics used."""
+        if self.theory_params is None:
+            raise ExploreError(f"{self.res.model}: trajectories are drawn for the theory model only")
+        th = self.res.thresholds
+        p = self.theory_params
+        return data.TheorySettings(
+            float(p["r"]),
+            th.horizon if th else float(p["horizon"]),
+            th.radius if th else float(p["success_radius"]),
+            float(p["rtol"]),
+        )
+
+    def trajectories(self, design: int, w: tuple[float, float]) -> list[ReferenceTrajectory]:
+        """The four environments' reference trajectories (scipy, the figures' integrator) to the
+        horizon. A trajectory stopped at the evaluation cap (no path) is kept as its start point,
+        so each environment still draws."""
+        s = self.settings()
+        trs = data.trajectories(self.coords(design), w, s)
+        starts = gridmod.env_starts(s.r)
+        return [
+            tr
+            if len(tr.t)
+            else ReferenceTrajectory(tr.first_time, tr.min_dist, tr.status, np.zeros(1), np.array([[*starts[k], 0.0]]))
+            for k, tr in enumerate(trs)
+        ]
+
+
+def warm_up() -> None:
+    """One tiny live evaluation: loads the theory kernel's compiled code from numba's cache."""
+    from morphlearn.theory import TheoryParams, evaluate
+
+    evaluate(np.array([[0.5, 0.5, 0.5, -0.5]]), gridmod.weights(2), TheoryParams(horizon=1.0))
+
+
+def describe(ex: Explorer, land: Landscape) -> dict[str, Any]:
+    """What the explorer prints beside a design: its metrics (table and matrix), ranks, mirror."""
+    d = land.design
+    row, mirror = ex.row(d), ex.mirror(d)
+    mrow = ex.row(mirror)
+    dm = land.metrics
+    out: dict[str, Any] = {
+        "design": d,
+        "l1": land.coords[0],
+        "l2": land.coords[1],
+        "source": land.source,
+        "seconds": land.seconds,
+        "weights": len(land.weights),
+        "matrix": {"generalists": dm.generalists, "at_least_one": dm.at_least_one, "M_L": dm.M_L, "M_CF": dm.M_CF},
+        "matches_table": ex.matches_table(land),
+        "designs": len(ex.res.table),
+        "mirror": mirror,
+        "mirror_coords": ex.coords(mirror),
+    }
+    if row is not None:
+        out["table"] = {
+            k: (float(row[k]) if k.startswith("M_") else int(row[k]))
+            for k in ("generalists", "at_least_one", "M_L", "M_CF", "flagged")
+        }
+        out["rank"] = {by: ex.rank(d, by) for by in ("M_L", "M_CF")}
+    if mrow is not None:
+        out["mirror_table"] = {k: float(mrow[k]) for k in ("M_L", "M_CF")}
+    return out
+
+
+def first_success_times(trs: list[ReferenceTrajectory]) -> list[float]:
+    """Per environment (45, 135, 225, 315 degrees), the first-success time (NaN: none)."""
+    return [float(t.first_time) for t in trs]
+
+
+def write_report(path: str | Path, app: Any) -> dict[str, Any]:
+    """Write what an explorer app shows (design, metrics, controller, first-success times, the
+    timings of its updates) as JSON: the record a headless run (papermill) leaves."""
+    ex, land = app.ex, app.land
+    out: dict[str, Any] = {"source": app.w_source.value, "design": app.design, "timings": app.timings}
+    if land is not None:
+        out["shown"] = describe(ex, land)
+        out["controller"] = app.w
+        if app.trs is not None:
+            out["first_success"] = [None if math.isnan(t) else t for t in first_success_times(app.trs)]
+            i, j = land.controller(*app.w)
+            out["kernel_first_success"] = [None if math.isnan(t) else float(t) for t in land.first_time[:, i, j]]
+    Path(path).write_text(json.dumps(out, indent=1, default=float) + "\n")
+    return out
