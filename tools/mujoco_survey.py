@@ -42,13 +42,13 @@ def design_path(out: Path, d: int) -> Path:
     return out / "designs" / f"d{d:04d}.npz"
 
 
-def run(out: Path) -> None:
+def run(out: Path, reverse: bool = False) -> None:
     (out / "designs").mkdir(parents=True, exist_ok=True)
     params = load_params(ROOT / "config/empirical_morphology.yaml")
     runner = BatchRunner(params)
     opts = SweepOptions(early_stop=True, adaptive_weights=True, near=DEFAULT_NEAR)
     w = weights(M)
-    reps = GRID.representatives()
+    reps = GRID.representatives()[::-1] if reverse else GRID.representatives()
     t0 = time.time()
     for n, d in enumerate(reps):
         path = design_path(out, int(d))
@@ -72,9 +72,12 @@ def _points(d: int) -> tuple[tuple[float, float], tuple[float, float]]:
 
 
 def load_all(out: Path) -> dict[int, np.ndarray]:
-    """Success arrays (4, M, M) of all 625 designs (mirror images derived)."""
+    """Success arrays (4, M, M) of the designs finished so far, mirror images derived (all 625
+    when the run is complete; a partial run is compared on what it has, and says so)."""
     succ = {}
     for d in GRID.representatives():
+        if not design_path(out, int(d)).exists():
+            continue
         z = np.load(design_path(out, int(d)))
         s = ~np.isnan(z["first_time"])
         succ[int(d)] = s
@@ -85,7 +88,7 @@ def load_all(out: Path) -> dict[int, np.ndarray]:
 def metrics(out: Path) -> pd.DataFrame:
     succ = load_all(out)
     rows = []
-    for d in range(GRID.size):
+    for d in sorted(succ):
         l1, l2 = _points(d)
         dm = design_metrics(succ[d])
         rows.append({"model": "mujoco", "design": d, "l1x": l1[0], "l1y": l1[1], "l2x": l2[0], "l2y": l2[1],
@@ -115,7 +118,6 @@ def compare(out: Path) -> dict:
     mj.to_csv(out / "metrics.csv", index=False)
     pb = pd.read_csv(PYBULLET).set_index("design").loc[mj["design"]]
     res: dict = {}
-    canon = GRID.index_of(*canonical_design())
     for metric in ("M_L", "M_CF"):
         a, b = pb[metric].to_numpy(float), mj[metric].to_numpy(float)
         nz = (a > 0) | (b > 0)
@@ -125,11 +127,14 @@ def compare(out: Path) -> dict:
                  "top10_overlap": len(top_a & top_b),
                  "designs_nonzero": {"pybullet": int((a > 0).sum()), "mujoco": int((b > 0).sum())}}  # fmt: skip
         # rank 1 = best; ties share the best rank of their group
+        canon = int(np.flatnonzero(mj["design"].to_numpy() == GRID.index_of(*canonical_design()))[0])
         entry["canonical_rank"] = {"pybullet": int((a > a[canon]).sum()) + 1, "mujoco": int((b > b[canon]).sum()) + 1}
         res[metric] = entry
     res["share_with_generalist"] = {"pybullet": float((pb["generalists"] > 0).mean()),
                                     "mujoco": float((mj["generalists"] > 0).mean())}  # fmt: skip
-    cpu = [float(np.load(design_path(out, int(d)))["cpu"]) for d in GRID.representatives()]
+    res["designs_compared"] = len(mj)
+    cpu = [float(np.load(design_path(out, int(d)))["cpu"]) for d in GRID.representatives()
+           if design_path(out, int(d)).exists()]
     res["cpu_s_simulated_designs"] = {"designs": len(cpu), "total": sum(cpu), "mean": float(np.mean(cpu))}
     (out / "compare.json").write_text(json.dumps(res, indent=1) + "\n")
     print(json.dumps(res, indent=1))
@@ -177,8 +182,14 @@ def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("what", choices=["run", "compare", "checks"])
     ap.add_argument("--out", type=Path, default=OUT)
+    # a second worker from the other end: designs are files written atomically, and a design both
+    # workers happen to run gives the same bytes
+    ap.add_argument("--reverse", action="store_true")
     a = ap.parse_args()
-    {"run": run, "compare": compare, "checks": checks}[a.what](a.out)
+    if a.what == "run":
+        run(a.out, a.reverse)
+    else:
+        {"compare": compare, "checks": checks}[a.what](a.out)
 
 
 if __name__ == "__main__":
