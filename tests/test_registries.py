@@ -93,5 +93,5 @@ def test_a_new_model_is_one_registry_entry(
     out_json, out_md = tmp_path / "summary.json", tmp_path / "summary.md"
     summary.run_summary(s, {"theory": str(tmp_path / "theory.csv"), "toy": str(csv)}, out_json, out_md)
     assert "## toy (" in out_md.read_text() and json.loads(out_json.read_text())["toy"]["designs"] == 81
-    with pytest.raises(ValueError, match=r"unknown model 'nope'; allowed: \['theory', 'empirical', 'toy'\]"):
+    with pytest.raises(ValueError, match=r"unknown model 'nope'; allowed: \['theory', 'empirical', 'mujoco', 'toy'\]"):
         models.get("nope")

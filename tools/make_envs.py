@@ -18,7 +18,8 @@ ENVS = {
     "analysis": CORE,  # merge, metrics, summary
     "learners": [*CORE, "cma"],  # learners_shard, learners_analysis (CMA-ES of the cma package)
     # empirical_shard; optimise_morphology (pymoo's NSGA-II, matplotlib for its Pareto plot)
-    "empirical": [*CORE, "pybullet", "pymoo", "matplotlib"],
+    # mujoco: the second empirical model (morphlearn.mujoco), beside pybullet
+    "empirical": [*CORE, "pybullet", "mujoco", "pymoo", "matplotlib"],
     # the figure notebooks (papermill + nbconvert + a kernel), Fig. 1C's pybullet render
     "figures": [*CORE, "pybullet", "matplotlib", "seaborn", "papermill", "nbconvert", "ipykernel"],
     # no rule: the interactive explorer (notebooks/explore.ipynb; docs/explorer.md), for conda users
