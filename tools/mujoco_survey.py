@@ -131,6 +131,13 @@ def spearman_ci(a: np.ndarray, b: np.ndarray, n_boot: int = 2000, seed: int = 0)
     return {"rho": rho, "lo": float(lo), "hi": float(hi), "n": len(a)}
 
 
+def _top_ties(a: np.ndarray, b: np.ndarray, k: int = 10) -> dict[str, int]:
+    """Top-k sets that keep every design tied with the k-th value, their sizes and overlap."""
+    ta = set(np.flatnonzero(a >= np.sort(a)[::-1][k - 1]))
+    tb = set(np.flatnonzero(b >= np.sort(b)[::-1][k - 1]))
+    return {"pybullet": len(ta), "mujoco": len(tb), "overlap": len(ta & tb)}
+
+
 def compare(out: Path) -> dict:
     mj = metrics(out)
     mj.to_csv(out / "metrics.csv", index=False)
@@ -144,7 +151,8 @@ def compare(out: Path) -> dict:
         entry = {
             "all": spearman_ci(a, b),
             "nonzero_either": spearman_ci(a[nz], b[nz]),
-            "top10_overlap": len(top_a & top_b),
+            "top10_overlap": len(top_a & top_b),  # ties at the 10th value broken by design index
+            "top10_with_ties": _top_ties(a, b),
             "designs_nonzero": {"pybullet": int((a > 0).sum()), "mujoco": int((b > 0).sum())},
         }
         # rank 1 = best; ties share the best rank of their group
