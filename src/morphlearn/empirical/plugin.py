@@ -61,6 +61,8 @@ class Physics(Model):
 
     #: The engine, as records and captions name it.
     engine: ClassVar[str]
+    #: Fig. 1C draws this engine's body (read even when the model is off, if figures are drawn).
+    figure_body: ClassVar[bool] = False
     cli_options = ("morphology",)
 
     # -- settings ----------------------------------------------------------------------------------
@@ -74,7 +76,7 @@ class Physics(Model):
             bundle_th = self._check_results_from(results_from, grid.positions_per_axis)
         params, body = None, None
         # the body file is read here, once: the sweep's science and Fig. 1C (the body) need it
-        if enabled or cfg["figures"]["enabled"]:
+        if enabled or (self.figure_body and cfg["figures"]["enabled"]):
             body = self._read_body(sec.get("morphology", DEFAULT_MORPHOLOGY))
         overrides = dict(sec.get("params", {}))
         if enabled and results_from is None:  # a bundle's results carry their own parameters
@@ -294,6 +296,7 @@ class Pybullet(Physics):
     name = "empirical"
     engine = "pybullet"
     env_file = "envs/empirical.yaml"
+    figure_body = True
 
     @staticmethod
     def design_evaluator() -> Callable[..., DesignResult]:
