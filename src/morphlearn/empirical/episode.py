@@ -104,12 +104,15 @@ class EpisodeRunner:
         stop_at_contact: bool = True,
         bound: ReachBound | None = None,
         stop_hopeless: bool = True,
+        path: list[tuple[float, float]] | None = None,
     ) -> Episode:
         """One episode of design ``(l1, l2)`` with weights ``(w1, w2)`` in environment ``env``.
 
         With ``bound``, every ``CHECK_EVERY`` steps the episode asks it whether the light is still
         reachable in the time left; ``stop_hopeless`` stops it at the first "no" (else the step is
-        only recorded, to validate the bound against full episodes).
+        only recorded, to validate the bound against full episodes). With ``path`` (a list), the
+        body centre (x, y) observed at every step ``0..steps`` is appended to it (for drawing;
+        the episode is unchanged).
         """
         p = self.params
         world = self._ready(env)
@@ -139,6 +142,8 @@ class EpisodeRunner:
             if not math.isfinite(px + py + pz + qx + qy + qz + qw):
                 finite = False
                 break
+            if path is not None:
+                path.append((px, py))
             dx, dy = px - lx, py - ly
             d2 = dx * dx + dy * dy
             min_d2 = min(min_d2, d2)

@@ -109,10 +109,14 @@ class BatchRunner:
         margin: float | None = None,
         stop_at_contact: bool = True,
         stop_hopeless: bool = True,
+        path: list[np.ndarray] | None = None,
     ) -> Episodes:
         """Episodes of designs ``l1``, ``l2`` ((n, 2) or one (2,) point for all), weights ``w``
         (n, 2) and environments ``env`` (n,). With ``margin`` the reach bound is checked every
-        ``CHECK_EVERY`` steps (``stop_hopeless``: stop at the first "out of reach")."""
+        ``CHECK_EVERY`` steps (``stop_hopeless``: stop at the first "out of reach"). With ``path``
+        (a list; at most ``CHUNK`` episodes), an (n, 2) array of the body centres (x, y) observed
+        at each step is appended to it per step, NaN for episodes already stopped (for drawing;
+        the episodes are unchanged)."""
         w = np.atleast_2d(np.asarray(w, dtype=np.float64))
         n = len(w)
         env = np.broadcast_to(np.asarray(env, dtype=np.int64), (n,))
@@ -120,6 +124,8 @@ class BatchRunner:
         l2 = np.broadcast_to(np.asarray(l2, dtype=np.float64), (n, 2))
         if w.shape != (n, 2) or np.any((env < 0) | (env > 3)):
             raise ValueError(f"weights must be (n, 2) and env in 0..3; got {w.shape}, env {np.unique(env)}")
+        if path is not None and n > CHUNK:
+            raise ValueError(f"path records at most CHUNK = {CHUNK} episodes at once; got {n}")
         parts = [
             self._run(
                 l1[a : a + CHUNK],
@@ -129,6 +135,7 @@ class BatchRunner:
                 margin,
                 stop_at_contact,
                 stop_hopeless,
+                path,
             )
             for a in range(0, n, CHUNK)
         ]
@@ -145,6 +152,7 @@ class BatchRunner:
         margin: float | None,
         stop_at_contact: bool,
         stop_hopeless: bool,
+        path: list[np.ndarray] | None = None,
     ) -> Episodes:
         from mujoco import batch as mjbatch
 
@@ -183,6 +191,10 @@ class BatchRunner:
                 finite[act[~ok]] = False
                 steps[act[~ok]] = k
                 act, q = act[ok], q[ok]
+            if path is not None:
+                xy = np.full((n, 2), np.nan)
+                xy[act] = q[:, :2]
+                path.append(xy)
             px, py, pz = q[:, 0], q[:, 1], q[:, 2]
             qw, qx, qy, qz = q[:, 3], q[:, 4], q[:, 5], q[:, 6]
             dx, dy = px - lx[act], py - ly[act]

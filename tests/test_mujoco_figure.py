@@ -1,0 +1,73 @@
+"""tools/mujoco_figure.py on the committed tables, and the committed MuJoCo-pybullet comparison
+(results/mujoco/survey_compare.json, quoted in docs/results.md) recomputed from those tables."""
+
+from __future__ import annotations
+
+import json
+import runpy
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+import pytest
+
+from morphlearn.compare import spearman_ci
+from morphlearn.grid import DesignGrid, canonical_design
+
+ROOT = Path(__file__).resolve().parents[1]
+MJ = ROOT / "results/mujoco"
+PB = ROOT / "results/survey/empirical/metrics.csv"
+
+
+def test_figure_script_writes_the_committed_figure(tmp_path: Path) -> None:
+    import matplotlib.image as mpimg
+
+    runpy.run_path(str(ROOT / "tools/mujoco_figure.py"), run_name="not_main")["main"](["--out", str(tmp_path)])
+    img = mpimg.imread(tmp_path / "engines.png")
+    assert img.shape[0] > 500 and img.shape[1] > 500
+    dark = (img[..., :3].mean(axis=-1) < 0.5).mean()
+    assert 0.005 < dark < 0.5, dark  # drawn on, not blank, not black
+    # deterministic and up to date: the same bytes and numbers as the committed files
+    assert (tmp_path / "engines.png").read_bytes() == (MJ / "engines.png").read_bytes()
+    assert (tmp_path / "engines.pdf").read_bytes() == (MJ / "engines.pdf").read_bytes()
+    assert json.loads((tmp_path / "engines.json").read_text()) == json.loads((MJ / "engines.json").read_text())
+
+
+def test_committed_comparison_equals_what_compare_computes() -> None:
+    saved = json.loads((MJ / "survey_compare.json").read_text())
+    mj = pd.read_csv(MJ / "survey_metrics.csv")
+    pb = pd.read_csv(PB).set_index("design").loc[mj.design].reset_index()
+    assert len(mj) == 625 and (pb.design.to_numpy() == mj.design.to_numpy()).all()
+    canon = int(np.flatnonzero(mj.design.to_numpy() == DesignGrid(5).index_of(*canonical_design()))[0])
+    for m in ("M_L", "M_CF"):
+        a, b = pb[m].to_numpy(float), mj[m].to_numpy(float)
+        nz = (a > 0) | (b > 0)
+        for key, rows in (("all", slice(None)), ("nonzero_either", nz)):
+            r = spearman_ci(a[rows], b[rows], m)
+            got = saved[m][key]
+            assert got["n"] == r.n
+            assert [got["rho"], got["lo"], got["hi"]] == pytest.approx([r.rho, r.low, r.high], rel=1e-9), (m, key)
+        # top 10 by each engine, ties at the 10th value broken by design index
+        top = [set(t.sort_values([m, "design"], ascending=[False, True]).design[:10]) for t in (pb, mj)]
+        assert saved[m]["top10_overlap"] == len(top[0] & top[1])
+        assert saved[m]["canonical_rank"] == {
+            "pybullet": int((a > a[canon]).sum()) + 1,
+            "mujoco": int((b > b[canon]).sum()) + 1,
+        }
+    assert saved["share_with_generalist"] == {
+        "pybullet": pytest.approx((pb.generalists > 0).mean()),
+        "mujoco": pytest.approx((mj.generalists > 0).mean()),
+    }
+    # the figure's numbers for the engines are the same statistics
+    fig = json.loads((MJ / "engines.json").read_text())
+    for m in ("M_L", "M_CF"):
+        for key in ("all", "nonzero_either"):
+            assert fig[f"{m} pybullet-mujoco"][key]["rho"] == pytest.approx(saved[m][key]["rho"], rel=1e-12)
+
+
+def test_disagreement_picks_the_largest_difference_then_the_most_generalists() -> None:
+    pick = runpy.run_path(str(ROOT / "tools/mujoco_disagreement.py"), run_name="not_main")["pick_design"]
+    pb = pd.DataFrame({"design": [0, 1, 2, 3, 4], "generalists": [5, 1, 6, 6, 2]})
+    mj = pd.DataFrame({"design": [0, 1, 2, 3, 4], "generalists": [4, 4, 3, 3, 2]})
+    assert pick(pb, mj) == 2  # |diff| 3 for designs 1, 2, 3; 2 and 3 have 9 generalists; 2 first
+    assert pick(pb.iloc[[0, 1, 4]], mj.iloc[[0, 1, 4]]) == 1
