@@ -368,7 +368,7 @@ def test_dt_is_science_only_for_the_fixed_step_integrator() -> None:
     base = config.validate(
         config.deep_merge(yaml.safe_load((Path(__file__).parents[1] / "config.yaml").read_text()), REL_CONFIG)
     )
-    rk4 = config.deep_merge(base, {"theory": {"integrator": "rk4"}})
+    rk4 = config.deep_merge(base, {"theory": {"integrator": "rk4", "max_steps": 100_000}})  # horizon / dt steps
 
     def dig(cfg: dict) -> str:
         return config.digest(models.get("theory").science(settings.parse(cfg)))
