@@ -200,3 +200,20 @@ def test_cli_killed_with_sigterm_resumes(tmp_path: Path, monkeypatch: pytest.Mon
     monkeypatch.setattr(rz, "compute_row", spy)
     assert rz.run(out, job, log=_quiet) == 7 - len(kept)
     assert sorted(spy.rows) == sorted(set(range(7)) - set(kept))
+
+
+def test_export_of_a_partial_run_is_a_run_folder(tmp_path: Path) -> None:
+    import subprocess
+    import sys
+
+    src, dest = tmp_path / "src", tmp_path / "bundle"
+    job = _job()
+    rz.run(src, job, body_file=BODY, log=_quiet, max_rows=2)
+    tool = Path(__file__).resolve().parents[1] / "tools" / "refine_design.py"
+    r = subprocess.run([sys.executable, str(tool), "export", str(src), str(dest)], capture_output=True, text=True)
+    assert r.returncode == 0, r.stderr
+    assert "PARTIAL" in (dest / "README.md").read_text()
+    a, b = rz.assemble(src), rz.assemble(dest)
+    assert (a.rows_done == b.rows_done).all() and a.result.first_time.tobytes() == b.result.first_time.tobytes()
+    assert json.loads((dest / "summary.json").read_text())["rows_done"] == 2
+    assert rz.run(dest, job, log=_quiet) == 1  # the bundle resumes like the run folder

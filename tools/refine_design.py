@@ -7,6 +7,9 @@
   status:    refine_design.py status /work/runs/refine/canonical_121/
   assemble:  refine_design.py assemble /work/runs/refine/canonical_121/ [--write]
              (metrics of the rows done; --write also saves result.npz and summary.json there)
+  export:    refine_design.py export /work/runs/refine/canonical_121/ results/refine/canonical_121/
+             (a small bundle for git: manifest, verified rows, logs, summary.json, README.md;
+             re-export to add later rows)
 
 Levers: early stop (exact, docs/empirical_levers.md) on unless --no-early-stop; never the
 adaptive weight grid (this is the reference it is measured against). See
@@ -92,6 +95,78 @@ def cmd_assemble(a: argparse.Namespace) -> int:
     return 0
 
 
+README = """# {title}: one pybullet design, exhaustive {m} x {m} weights ({state})
+
+Made by `tools/refine_design.py` (morphlearn.empirical.resumable): every (env, w1, w2) episode of
+design l1 = {l1}, l2 = {l2} with the body `{body}` (sha256 {body_sha}...), early stop on (exact:
+docs/empirical_levers.md), no adaptive weight grid, no mirror derivation (every cell simulated).
+
+**{state}**: {rows_done} of {m} w1 rows ({frac:.1%}), {episodes} of {total} episodes, exported
+{now}. Rows were computed coarse to fine (the 11-point weights first, then farthest-first), so
+the rows present are a spread-out sample of w1.
+
+- Resume / finish: `nice -n 5 python tools/refine_design.py run --design-l1 {l1x} {l1y}
+  --design-l2 {l2x} {l2y} --weights {m} --out {src}` (finished rows are verified and skipped),
+  then `python tools/refine_design.py export {src} <this folder>`. Without the original folder,
+  give this folder as `--out` (it is a valid run folder) or copy it there first.
+- Read: `python tools/refine_design.py status <this folder>` or `assemble <this folder>`; or
+  `numpy.load("rows/row_XXX.npz")`: arrays `first_time`, `min_dist` (float32), `status` (int8),
+  `steps` (int16), shape (4 envs [45, 135, 225, 315 deg], {m} w2), for w1 = weights[XXX]
+  (`manifest.json` `weight_values`); `meta` holds the run key and the arrays' SHA-256.
+- Code: created at commit {created_commit}; each row's commit is in `progress.jsonl`, each start
+  in `runs.jsonl`. Run key {run_key}.
+
+## Numbers over the rows done
+
+- Generalists (success in all 4 environments): **{gen}** of {cells} cells; at least one
+  environment {any1}; per environment {per_env}; M_L {ml:.6g}, M_CF {mcf:.6g}; flagged {flagged}.
+  The paper reports 1 generalist of 14641 for the canonical design in its physics.
+{mirror}- Cost: {eps_wall:.2f} episodes per wall-second on a shared 2-core VM (nice 5), {eps_cpu:.2f}
+  episodes per CPU-second, {spe:.0f} physics steps per episode (horizon {steps}).
+
+`summary.json` holds these numbers as the `assemble` command prints them.
+"""
+
+
+def cmd_export(a: argparse.Namespace) -> int:
+    import shutil
+    from datetime import UTC, datetime
+
+    src, dest = Path(a.folder), Path(a.dest)
+    asm = rz.assemble(src, log=_log)
+    s = rz.summary(asm) | {"cost": rz.cost(src), "run_key": asm.manifest["run_key"]}
+    job = rz.job_from_manifest(asm.manifest)
+    if (dest / "rows").exists():
+        shutil.rmtree(dest / "rows")
+    (dest / "rows").mkdir(parents=True)
+    for i in np.flatnonzero(asm.rows_done):
+        shutil.copyfile(rz.row_path(src, int(i)), rz.row_path(dest, int(i)))
+    for name in ("manifest.json", "progress.jsonl", "runs.jsonl"):
+        if (src / name).exists():
+            shutil.copyfile(src / name, dest / name)
+    (dest / "summary.json").write_text(json.dumps(s, indent=1, sort_keys=True) + "\n")
+    man, dm, c = asm.manifest, s["metrics_over_rows_done"], s["cost"]
+    mi = s.get("mirror")
+    mirror = (f"- Mirror flips (the design is its own mirror image; cell (env, i, j) against "
+              f"(mirror env, j, i), both rows done): **{mi['pairs_flipped']} of {mi['pairs_compared']}** "
+              "cell pairs differ in success.\n") if mi else ""  # fmt: skip
+    state = "complete" if asm.complete else "PARTIAL"
+    title = "canonical design" if (job.l1, job.l2) == ((0.5, 0.5), (0.5, -0.5)) else "design"
+    (dest / "README.md").write_text(README.format(
+        title=title, m=job.m, state=state, l1=list(job.l1), l2=list(job.l2), body=man["body_file"],
+        body_sha=str(man["body_file_sha256"])[:12], rows_done=s["rows_done"], frac=s["fraction_done"],
+        episodes=s["episodes"], total=4 * job.m**2, now=datetime.now(UTC).strftime("%Y-%m-%d %H:%M UTC"),
+        l1x=job.l1[0], l1y=job.l1[1], l2x=job.l2[0], l2y=job.l2[1], src=src, created_commit=man["created_commit"],
+        run_key=man["run_key"], gen=dm["generalists"], cells=s["episodes"] // 4, any1=dm["at_least_one"],
+        per_env=dm["per_env"], ml=dm["M_L"], mcf=dm["M_CF"], flagged=dm["flagged"], mirror=mirror,
+        eps_wall=c["episodes_per_wall_s"], eps_cpu=c["episodes_per_cpu_s"], spe=s["steps_per_episode"],
+        steps=job.params.steps,
+    ))  # fmt: skip
+    size = sum(p.stat().st_size for p in dest.rglob("*") if p.is_file())
+    print(f"exported {s['rows_done']}/{job.m} rows ({state}) to {dest}: {size / 1e6:.2f} MB", file=sys.stderr)
+    return 0
+
+
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     sub = ap.add_subparsers(dest="cmd", required=True)
@@ -112,6 +187,10 @@ def main(argv: list[str] | None = None) -> int:
     m.add_argument("folder", type=Path)
     m.add_argument("--write", action="store_true", help="also write result.npz and summary.json in the folder")
     m.set_defaults(fn=cmd_assemble)
+    e = sub.add_parser("export", help="copy the verified rows, manifest and logs to a bundle folder with a README")
+    e.add_argument("folder", type=Path)
+    e.add_argument("dest", type=Path)
+    e.set_defaults(fn=cmd_export)
     a = ap.parse_args(argv)
     try:
         return a.fn(a)
