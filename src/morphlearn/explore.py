@@ -1,7 +1,7 @@
 """The interactive explorer's logic (notebooks/explore.ipynb; widgets in morphlearn.explore_app).
 
 Reads a committed results bundle (checked against its manifest first, as
-``morphlearn.bundle.extract_model`` does), lays every design's M_L and M_CF out as one map over
+``morphlearn.bundle_check.extract_model`` does), lays every design's M_L and M_CF out as one map over
 sensor placements, and gives one design's overlap matrix: from the bundle when it holds the
 design's outcome arrays, otherwise computed live by the theory kernel with the bundle's own theory
 parameters and thresholds (timed). No plotting here, so all of it is tested headless.
