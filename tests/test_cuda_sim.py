@@ -141,7 +141,7 @@ def test_backend_selection_without_gpu() -> None:
 
 
 def test_backend_comes_from_config_but_not_the_science_digest() -> None:
-    from morphlearn.settings import GridSettings
+    from morphlearn.settings import FigureSettings, GridSettings, Shared, SweepSettings
     from morphlearn.theory.plugin import Theory
 
     th = {
@@ -156,10 +156,10 @@ def test_backend_comes_from_config_but_not_the_science_digest() -> None:
         "backend": "auto",
     }
     assert TheoryParams.from_config(th).backend == "auto"
-    cfg = {
-        "grid": {"positions_per_axis": 9, "weights": 121},
-        "theory": {**th, "enabled": True},
-        "sweep": {"mirror_symmetry": True, "shards": 1, "threads": 1},
-    }
-    parsed = Theory().parse(cfg, GridSettings(9, 121))
+    shared = Shared(
+        GridSettings(9, 121),
+        SweepSettings(shards=1, mirror_symmetry=True, threads=1),
+        FigureSettings(False, 1.0, 35, "best_M_L", (45, 135)),
+    )
+    parsed = Theory().parse({**th, "enabled": True}, shared)
     assert parsed.params.backend == "auto" and "backend" not in json.dumps(dict(parsed.science))

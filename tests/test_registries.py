@@ -71,15 +71,22 @@ def test_a_new_metric_is_one_registry_entry(
 
 
 class _Toy(Theory):
-    """A second model: the theory's section under another name (a plug-in needs no other edit)."""
+    """A second model: the theory under another name. A real model adds its section to the
+    schema; this test double takes the theory's section (the schema has no 'toy' key)."""
 
     name = "toy"
+
+    def __init__(self, section: dict) -> None:
+        self.section = section
+
+    def parse(self, section: dict, shared: settings.Shared) -> object:
+        return super().parse(self.section, shared)
 
 
 def test_a_new_model_is_one_registry_entry(
     smoke_settings: settings.Settings, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
-    toy = _Toy()
+    toy = _Toy(dict(smoke_settings.source["theory"]))
     monkeypatch.setitem(models.MODELS, "toy", toy)
     s = settings.parse(dict(smoke_settings.source))  # parsed again: the registry has the toy now
     assert models.enabled(s) == ["theory", "empirical", "toy"] and "toy" in models.simulated(s)

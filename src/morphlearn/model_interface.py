@@ -28,7 +28,7 @@ from morphlearn.grid import split_shards
 if TYPE_CHECKING:
     from morphlearn.metrics import Thresholds
     from morphlearn.results import DesignResult
-    from morphlearn.settings import GridSettings, Settings
+    from morphlearn.settings import Settings, Shared
 
 #: Called as each design of a batch finishes: (index in the batch, its result).
 Done = Callable[[int, "DesignResult"], None]
@@ -56,9 +56,10 @@ class Model(ABC):
 
     # -- settings (parsed once, at the edge) ---------------------------------------------------
     @abstractmethod
-    def parse(self, cfg: Mapping[str, Any], grid: GridSettings) -> Any:
-        """This model's section of the validated config, typed; files it names read once.
-        Raises ConfigError for a bad value, naming the key."""
+    def parse(self, section: Mapping[str, Any], shared: Shared) -> Any:
+        """This model's section of the validated config (``section``: the mapping under its name,
+        defaults filled), typed, with the typed sections it may also need (``shared``: grid,
+        sweep, figures); files it names read once. Raises ConfigError naming the key."""
 
     def settings(self, s: Settings) -> Any:
         return s.models[self.name]

@@ -97,6 +97,15 @@ class LearnerSettings:
 
 
 @dataclass(frozen=True)
+class Shared:
+    """The typed sections a model's parse may read besides its own (Model.parse)."""
+
+    grid: GridSettings
+    sweep: SweepSettings
+    figures: FigureSettings
+
+
+@dataclass(frozen=True)
 class Settings:
     """The whole validated config, typed. ``source`` is the validated mapping itself (read-only),
     kept for what works on configs as data: scenario overrides (deep merges) and digests."""
@@ -135,6 +144,8 @@ def parse(cfg: Mapping[str, Any]) -> Settings:
 
     v = cfgmod.validate(dict(cfg))
     grid = _section(GridSettings, v["grid"])
+    sweep = _section(SweepSettings, v["sweep"])
+    figures = _section(FigureSettings, v["figures"])
     learners = _section(LearnerSettings, v["learners"])
     if learners.enabled:
         g = grid.designs
@@ -148,11 +159,14 @@ def parse(cfg: Mapping[str, Any]) -> Settings:
         results_dir=v["results_dir"],
         design_cache=bool(v["design_cache"]),
         grid=grid,
-        sweep=_section(SweepSettings, v["sweep"]),
+        sweep=sweep,
         analysis=_section(AnalysisSettings, v["analysis"]),
-        figures=_section(FigureSettings, v["figures"]),
+        figures=figures,
         learners=learners,
-        models=MappingProxyType({name: m.parse(v, grid) for name, m in models.MODELS.items()}),
+        # each model parses its own section (schema defaults filled: {} when absent)
+        models=MappingProxyType(
+            {name: m.parse(v.get(name, {}), Shared(grid, sweep, figures)) for name, m in models.MODELS.items()}
+        ),
         bundle_dir=v["bundle_dir"],
         scenarios=v["scenarios"],
         scenario_file=v["scenario_file"],

@@ -29,7 +29,7 @@ if TYPE_CHECKING:
     from morphlearn.grid import DesignGrid
     from morphlearn.metrics import Thresholds
     from morphlearn.results import DesignResult
-    from morphlearn.settings import GridSettings, Settings
+    from morphlearn.settings import Settings, Shared
 
 DEFAULT_MORPHOLOGY = "config/empirical_morphology.yaml"
 
@@ -66,8 +66,8 @@ class Physics(Model):
     cli_options = ("morphology",)
 
     # -- settings ----------------------------------------------------------------------------------
-    def parse(self, cfg: Mapping[str, Any], grid: GridSettings) -> PhysicsSettings:
-        sec = cfg.get(self.name, {})
+    def parse(self, sec: Mapping[str, Any], shared: Shared) -> PhysicsSettings:
+        grid = shared.grid
         enabled = bool(sec.get("enabled"))
         g = grid.designs
         results_from = sec.get("results_from")
@@ -76,7 +76,7 @@ class Physics(Model):
             bundle_th = self._check_results_from(results_from, grid.positions_per_axis)
         params, body = None, None
         # the body file is read here, once: the sweep's science and Fig. 1C (the body) need it
-        if enabled or (self.figure_body and cfg["figures"]["enabled"]):
+        if enabled or (self.figure_body and shared.figures.enabled):
             body = self._read_body(sec.get("morphology", DEFAULT_MORPHOLOGY))
         overrides = dict(sec.get("params", {}))
         if enabled and results_from is None:  # a bundle's results carry their own parameters

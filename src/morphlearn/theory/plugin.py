@@ -20,7 +20,7 @@ from morphlearn.theory import TheoryParams
 if TYPE_CHECKING:
     from morphlearn.metrics import Thresholds
     from morphlearn.results import DesignResult
-    from morphlearn.settings import GridSettings, Settings
+    from morphlearn.settings import Settings, Shared
 
 #: The CLI's defaults where it is not given (the paper-matching settings, DESIGN.md section 2).
 CLI_HORIZON = 500.0
@@ -49,30 +49,29 @@ class Theory(Model):
     env_file = "envs/theory.yaml"
     cli_options = ("r", "horizon", "dt")
 
-    def parse(self, cfg: Mapping[str, Any], grid: GridSettings) -> TheorySettings:
-        th, sw = cfg["theory"], cfg["sweep"]
+    def parse(self, section: Mapping[str, Any], shared: Shared) -> TheorySettings:
+        grid, sw = shared.grid, shared.sweep
         keys = ["r", "horizon", "success_radius", "integrator", "max_steps"]
-        keys += ["rtol", "atol"] if th["integrator"] == "dp5" else ["dt"]
+        keys += ["rtol", "atol"] if section["integrator"] == "dp5" else ["dt"]
         science = {
             "model": self.name,
-            "grid": dict(cfg["grid"]),
-            "theory": {k: th[k] for k in keys},
-            "mirror_symmetry": sw["mirror_symmetry"],
+            "grid": {"positions_per_axis": grid.positions_per_axis, "weights": grid.weights},
+            "theory": {k: section[k] for k in keys},
+            "mirror_symmetry": sw.mirror_symmetry,
         }
         g = grid.designs
-        designs = g.representatives() if sw["mirror_symmetry"] else np.arange(g.size)
-        if sw["shards"] > len(designs):
+        designs = g.representatives() if sw.mirror_symmetry else np.arange(g.size)
+        if sw.shards > len(designs):
             raise ConfigError(
-                f"sweep.shards = {sw['shards']} exceeds the {len(designs)} designs evaluated; "
-                f"allowed: 1..{len(designs)}"
+                f"sweep.shards = {sw.shards} exceeds the {len(designs)} designs evaluated; allowed: 1..{len(designs)}"
             )
         return TheorySettings(
-            enabled=bool(th["enabled"]),
-            params=TheoryParams.from_config(th),
+            enabled=bool(section["enabled"]),
+            params=TheoryParams.from_config(section),
             weights=grid.weights,
-            shards=sw["shards"],
-            threads=sw["threads"],
-            mirror_symmetry=bool(sw["mirror_symmetry"]),
+            shards=sw.shards,
+            threads=sw.threads,
+            mirror_symmetry=bool(sw.mirror_symmetry),
             designs=tuple(int(d) for d in designs),
             science=MappingProxyType(science),
         )
