@@ -89,9 +89,13 @@ class Model(ABC):
     def weights(self, s: Settings) -> np.ndarray:
         return s.weights(self.name)
 
-    @abstractmethod
     def science(self, s: Settings) -> dict[str, Any]:
-        """The config subset that determines its numbers (its digest keys caches and stores)."""
+        """The config subset that determines its numbers (its digest keys caches and stores): a
+        copy of the record its parse made (its settings' ``science``; empty when it simulates
+        nothing)."""
+        import copy
+
+        return copy.deepcopy(dict(self.settings(s).science or {}))
 
     @abstractmethod
     def mirror_derived(self, s: Settings) -> bool:

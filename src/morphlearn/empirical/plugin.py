@@ -88,7 +88,7 @@ class Physics(Model):
         mirror_derive = bool(sec.get("mirror_derive", False))
         simulated = sorted({min(d, int(g.mirror(d))) for d in held}) if mirror_derive else list(held)
         if simulates:
-            self._check_designs(sec, held, simulated)
+            self._check_designs(sec, simulated)
         options = SweepOptions.from_config(sec)
         science = None
         if simulates:
@@ -155,7 +155,7 @@ class Physics(Model):
             d = np.concatenate([d, g.mirror(d)])
         return sorted({int(x) for x in d})
 
-    def _check_designs(self, sec: Mapping[str, Any], held: list[int], simulated: list[int]) -> None:
+    def _check_designs(self, sec: Mapping[str, Any], simulated: list[int]) -> None:
         if sec.get("mirror_derive") and sec.get("designs") != "all" and not sec.get("include_mirrors", True):
             raise ConfigError(
                 f"{self.name}.mirror_derive = true needs the mirror images in the results; "
@@ -207,11 +207,6 @@ class Physics(Model):
 
     def designs(self, s: Settings) -> np.ndarray:
         return np.array(self.settings(s).simulated, dtype=np.int64)
-
-    def science(self, s: Settings) -> dict[str, Any]:
-        import copy
-
-        return copy.deepcopy(dict(self.settings(s).science or {}))
 
     def mirror_derived(self, s: Settings) -> bool:
         """Physics mirror images are simulated unless ``mirror_derive`` (an engine is symmetric

@@ -79,11 +79,6 @@ class Theory(Model):
     def designs(self, s: Settings) -> np.ndarray:
         return np.array(self.settings(s).designs, dtype=np.int64)
 
-    def science(self, s: Settings) -> dict[str, Any]:
-        import copy
-
-        return copy.deepcopy(dict(self.settings(s).science))
-
     def mirror_derived(self, s: Settings) -> bool:
         return self.settings(s).mirror_symmetry
 
