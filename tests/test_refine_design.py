@@ -222,3 +222,28 @@ def test_export_of_a_partial_run_is_a_run_folder(tmp_path: Path) -> None:
     assert (a.rows_done == b.rows_done).all() and a.result.first_time.tobytes() == b.result.first_time.tobytes()
     assert json.loads((dest / "summary.json").read_text())["rows_done"] == 2
     assert rz.run(dest, job, log=_quiet) == 1  # the bundle resumes like the run folder
+
+
+def test_mujoco_rows_equal_mujoco_evaluate_design_bit_for_bit(tmp_path: Path) -> None:
+    pytest.importorskip("mujoco")
+    from morphlearn.mujoco import evaluate_design as mujoco_evaluate_design
+
+    job = rz.Job(**{**_job().__dict__, "engine": "mujoco"})
+    assert rz.run(tmp_path, job, body_file=BODY, log=_quiet) == 3
+    a = rz.assemble(tmp_path)
+    ref = mujoco_evaluate_design(job.l1, job.l2, job.weights, job.params, options=job.options)
+    for k in ("first_time", "min_dist", "status"):
+        got, want = getattr(a.result, k), getattr(ref, k)
+        assert got.dtype == want.dtype and got.tobytes() == want.tobytes(), k
+    assert metrics.success(ref.first_time, ref.min_dist, rz.thresholds(job.params)).any()
+    # a MuJoCo folder is not a pybullet one: resuming it with the other engine is refused
+    with pytest.raises(rz.RefineError, match="engine"):
+        rz.run(tmp_path, _job(), body_file=BODY, log=_quiet, max_rows=0)
+
+
+def test_engine_choice_keeps_pybullet_run_keys_and_refuses_unknown_engines() -> None:
+    job = _job()
+    # pybullet folders made before the engine choice existed keep their run keys
+    assert "engine" not in job.identity() and "pybullet" in job.identity()
+    with pytest.raises(rz.RefineError, match="engine = 'bullet3' is invalid; allowed: pybullet, mujoco"):
+        rz.Job(**{**job.__dict__, "engine": "bullet3"})

@@ -52,6 +52,7 @@ def cmd_run(a: argparse.Namespace) -> int:
         m=a.weights,
         params=params,
         options=SweepOptions(early_stop=not a.no_early_stop),
+        engine=a.engine,
     )
     try:
         rz.run(a.out, job, body_file=a.body, max_rows=a.max_rows, log=_log)
@@ -119,7 +120,7 @@ def cmd_assemble(a: argparse.Namespace) -> int:
     return 0
 
 
-README = """# {title}: one pybullet design, exhaustive {m} x {m} weights ({state})
+README = """# {title}: one {engine} design, exhaustive {m} x {m} weights ({state})
 
 Made by `tools/refine_design.py` (morphlearn.empirical.resumable): every (env, w1, w2) episode of
 design l1 = {l1}, l2 = {l2} with the body `{body}` (sha256 {body_sha}...), early stop on (exact:
@@ -130,7 +131,7 @@ docs/empirical_levers.md), no adaptive weight grid, no mirror derivation (every 
 the rows present are a spread-out sample of w1.
 
 - Resume / finish: `nice -n 5 python tools/refine_design.py run --design-l1 {l1x} {l1y}
-  --design-l2 {l2x} {l2y} --weights {m} --out {src}` (finished rows are verified and skipped),
+  --design-l2 {l2x} {l2y} --weights {m}{engine_flag} --out {src}` (finished rows are verified and skipped),
   then `python tools/refine_design.py export {src} <this folder>`. Without the original folder,
   give this folder as `--out` (it is a valid run folder) or copy it there first.
 - Read: `python tools/refine_design.py status <this folder>` or `assemble <this folder>`; or
@@ -143,8 +144,7 @@ the rows present are a spread-out sample of w1.
 ## Numbers over the rows done
 
 - Generalists (success in all 4 environments): **{gen}** of {cells} cells; at least one
-  environment {any1}; per environment {per_env}; M_L {ml:.6g}, M_CF {mcf:.6g}; flagged {flagged}.
-  The paper reports 1 generalist of 14641 for the canonical design in its physics.
+  environment {any1}; per environment {per_env}; M_L {ml:.6g}, M_CF {mcf:.6g}; flagged {flagged}.{paper}
 {mirror}- Cost: {eps_wall:.2f} episodes per wall-second on a shared 2-core VM (nice 5), {eps_cpu:.2f}
   episodes per CPU-second, {spe:.0f} physics steps per episode (horizon {steps}).
 
@@ -185,6 +185,11 @@ def cmd_export(a: argparse.Namespace) -> int:
     (dest / "README.md").write_text(
         README.format(
             title=title,
+            engine=job.engine,
+            paper="\n  The paper reports 1 generalist of 14641 for the canonical design in its physics."
+            if title == "canonical design"
+            else "",
+            engine_flag="" if job.engine == "pybullet" else f" --engine {job.engine}",
             m=job.m,
             state=state,
             l1=list(job.l1),
@@ -234,6 +239,7 @@ def main(argv: list[str] | None = None) -> int:
     r.add_argument("--steps", type=int, default=None, help="override the body's horizon in steps (tests)")
     r.add_argument("--no-early-stop", action="store_true", help="run every episode to contact or horizon")
     r.add_argument("--max-rows", type=int, default=None, help="stop after this many new rows")
+    r.add_argument("--engine", choices=rz.ENGINES, default="pybullet", help="physics engine (default: pybullet)")
     r.set_defaults(fn=cmd_run)
     s = sub.add_parser("status", help="progress, cost and metrics so far")
     s.add_argument("folder", type=Path)

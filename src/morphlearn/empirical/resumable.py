@@ -31,7 +31,8 @@ import signal
 import time
 import zipfile
 from collections.abc import Callable
-from dataclasses import dataclass
+from contextlib import nullcontext
+from dataclasses import asdict, dataclass
 from datetime import UTC, datetime
 from pathlib import Path
 from typing import Any
@@ -61,6 +62,10 @@ CHUNK_VARS: dict[str, np.dtype] = {
 _ZIP_DATE = (1980, 1, 1, 0, 0, 0)  # fixed, so a chunk's bytes depend on its numbers only
 
 
+#: Engines a folder can be computed with.
+ENGINES = ("pybullet", "mujoco")
+
+
 class RefineError(Exception):
     """A bad input or a folder that belongs to another run."""
 
@@ -78,8 +83,12 @@ class Job:
     m: int
     params: EmpiricalParams
     options: SweepOptions
+    #: ``pybullet`` (the reference engine) or ``mujoco`` (its default ``MujocoSettings``).
+    engine: str = "pybullet"
 
     def __post_init__(self) -> None:
+        if self.engine not in ENGINES:
+            raise RefineError(f"engine = {self.engine!r} is invalid; allowed: {', '.join(ENGINES)}")
         for name, v in zip(("l1.x", "l1.y", "l2.x", "l2.y"), (*self.l1, *self.l2), strict=True):
             if not (math.isfinite(v) and -0.5 <= v <= 0.5):
                 raise RefineError(f"design {name} = {v!r} is outside the body; allowed: [-0.5, 0.5]")
@@ -102,8 +111,28 @@ class Job:
             "params": self.params.to_dict(),
             "levers": self.options.science(),
             "chunk": "one w1 row: all 4 environments x all w2",
-            "pybullet": provenance.library_versions().get("pybullet", "unknown"),
+            **self._engine_identity(),
         }
+
+    def _engine_identity(self) -> dict[str, Any]:
+        # pybullet's entry is what it was before MuJoCo existed, so its folders keep their run keys
+        if self.engine == "pybullet":
+            return {"pybullet": provenance.library_versions().get("pybullet", "unknown")}
+        import mujoco
+
+        from morphlearn.mujoco import MujocoSettings
+
+        return {"engine": "mujoco", "mujoco": mujoco.__version__, "mujoco_settings": asdict(MujocoSettings())}
+
+    def runner(self) -> Any:
+        """The engine's episode runner (a context manager)."""
+        if self.engine == "pybullet":
+            from morphlearn.empirical.episode import EpisodeRunner
+
+            return EpisodeRunner(self.params)
+        from morphlearn.mujoco import BatchRunner
+
+        return nullcontext(BatchRunner(self.params))
 
     def run_key(self) -> str:
         return digest(self.identity())
@@ -276,6 +305,8 @@ def verified_rows(
 def compute_row(runner: Any, job: Job, row: int) -> dict[str, np.ndarray]:
     """All 4 x m episodes of w1 row ``row``: the per-cell call of ``evaluate_design``."""
     w, m, opt = job.weights, job.m, job.options
+    if job.engine == "mujoco":
+        return _mujoco_row(runner, job, row)
     out = {
         k: np.zeros((4, m), dtype=np.float64 if k in ("first_time", "min_dist") else dt) for k, dt in CHUNK_VARS.items()
     }
@@ -290,6 +321,24 @@ def compute_row(runner: Any, job: Job, row: int) -> dict[str, np.ndarray]:
             out["status"][env, j] = STATUS_OK if ep.finite else STATUS_NONFINITE
             out["steps"][env, j] = ep.steps
     return {k: out[k].astype(dt) for k, dt in CHUNK_VARS.items()}  # the stored dtypes, as DesignResult
+
+
+def _mujoco_row(runner: Any, job: Job, row: int) -> dict[str, np.ndarray]:
+    """The row's 4 x m episodes in one MuJoCo batch (outcomes do not depend on the batch)."""
+    from morphlearn.results import STATUS_NONFINITE, STATUS_OK
+
+    w, m, opt = job.weights, job.m, job.options
+    env, j = np.repeat(np.arange(4), m), np.tile(np.arange(m), 4)
+    ep = runner.run(
+        job.l1, job.l2, np.stack([np.full(4 * m, w[row]), w[j]], 1), env, margin=opt.margin if opt.early_stop else None
+    )
+    out = {
+        "first_time": ep.first_time,
+        "min_dist": ep.min_dist,
+        "status": np.where(ep.finite, STATUS_OK, STATUS_NONFINITE),
+        "steps": ep.steps,
+    }
+    return {k: np.asarray(out[k]).reshape(4, m).astype(dt) for k, dt in CHUNK_VARS.items()}
 
 
 def _row_generalists(chunk: dict[str, np.ndarray], th: metrics.Thresholds) -> int:
@@ -315,8 +364,6 @@ def run(
     ``max_rows`` stops after that many new rows (tests, short sessions). SIGTERM is turned into
     KeyboardInterrupt so a kill, like Ctrl-C, only loses the row in progress.
     """
-    from morphlearn.empirical.episode import EpisodeRunner
-
     folder = Path(folder)
     folder.mkdir(parents=True, exist_ok=True)
     key = open_folder(folder, job, body_file)
@@ -336,7 +383,7 @@ def run(
     old = signal.signal(signal.SIGTERM, _raise_interrupt) if _main_thread() else None
     t0, computed = time.monotonic(), 0
     try:
-        with EpisodeRunner(job.params) as runner:
+        with job.runner() as runner:
             for row in todo:
                 w0, c0 = time.monotonic(), time.process_time()
                 chunk = compute_row(runner, job, row)
@@ -422,6 +469,7 @@ def job_from_manifest(man: dict[str, Any]) -> Job:
         m=int(ident["weights"]),
         params=EmpiricalParams.from_mapping(ident["params"]),
         options=opts,
+        engine=ident.get("engine", "pybullet"),
     )
 
 
@@ -433,7 +481,7 @@ def assemble(folder: str | Path, log: Callable[[str], None] | None = None) -> As
     if job.run_key() != man["run_key"]:
         raise RefineError(
             f"{manifest_path(folder)}: its identity does not hash to its run key "
-            "(edited, or written by another pybullet version)"
+            "(edited, or written by another engine version)"
         )
     m = job.m
     first = np.full((4, m, m), np.nan, dtype=np.float32)
