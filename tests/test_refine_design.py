@@ -247,3 +247,28 @@ def test_engine_choice_keeps_pybullet_run_keys_and_refuses_unknown_engines() -> 
     assert "engine" not in job.identity() and "pybullet" in job.identity()
     with pytest.raises(rz.RefineError, match="engine = 'bullet3' is invalid; allowed: pybullet, mujoco"):
         rz.Job(**{**job.__dict__, "engine": "bullet3"})
+
+
+def test_adaptive_replay_equals_an_adaptive_run(tmp_path: Path) -> None:
+    """The adaptive grid's misses are measured by replaying it on an exhaustive folder: the cells
+    the replay picks are the cells a real adaptive run simulates."""
+    pytest.importorskip("mujoco")
+    from morphlearn.empirical.refine import misses, replay_mask
+    from morphlearn.mujoco import evaluate_design as mujoco_evaluate_design
+    from morphlearn.results import STATUS_INFERRED
+
+    job = rz.Job(**{**_job(m=5).__dict__, "engine": "mujoco"})
+    rz.run(tmp_path, job, body_file=BODY, log=_quiet)
+    r = rz.assemble(tmp_path).result
+    succ = metrics.success(r.first_time, r.min_dist, rz.thresholds(job.params))
+    near = 1.5
+    opts = SweepOptions(early_stop=True, adaptive_weights=True, near=near)
+    run = mujoco_evaluate_design(job.l1, job.l2, job.weights, job.params, options=opts)
+    seeds = succ | (r.min_dist <= near * job.params.contact_distance)
+    mask = replay_mask(seeds)
+    assert not mask.all(), "the check needs cells the adaptive grid skips"
+    assert (mask == (run.status != STATUS_INFERRED)).all()
+    m = misses(succ, r.min_dist, job.params.contact_distance, near)
+    assert m["successes"] == int(succ.sum()) > 0 and 0 < m["simulated_share"] <= 1
+    got = metrics.success(run.first_time, run.min_dist, rz.thresholds(job.params))
+    assert m["successes_missed"] == int((succ & ~got).sum())

@@ -227,6 +227,24 @@ def cmd_export(a: argparse.Namespace) -> int:
     return 0
 
 
+def cmd_adaptive(a: argparse.Namespace) -> int:
+    """The adaptive weight grid's misses at each ``--near``, replayed on a complete exhaustive folder."""
+    from morphlearn import metrics
+    from morphlearn.empirical.refine import misses
+
+    asm = rz.assemble(a.folder, log=_log)
+    if not asm.complete:
+        raise rz.RefineError(
+            f"{a.folder}: {int(asm.rows_done.sum())} of {len(asm.rows_done)} rows; the replay needs them all"
+        )
+    job = rz.job_from_manifest(asm.manifest)
+    r = asm.result
+    succ = metrics.success(r.first_time, r.min_dist, rz.thresholds(job.params))
+    out = [misses(succ, r.min_dist, job.params.contact_distance, near) for near in a.near]
+    print(json.dumps({"folder": str(a.folder), "engine": job.engine, "weights": job.m, "replays": out}, indent=1))
+    return 0
+
+
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     sub = ap.add_subparsers(dest="cmd", required=True)
@@ -251,8 +269,14 @@ def main(argv: list[str] | None = None) -> int:
     e = sub.add_parser("export", help="copy the verified rows, manifest and logs to a bundle folder with a README")
     e.add_argument("folder", type=Path)
     e.add_argument("dest", type=Path)
+    ad = sub.add_parser("adaptive", help="replay the adaptive weight grid on a complete folder: what it misses")
+    ad.add_argument("folder", type=Path)
+    ad.add_argument("--near", type=float, nargs="+", default=[4.0, 1.5], help="near thresholds (contact distances)")
     e.set_defaults(fn=cmd_export)
+    ad.set_defaults(fn=cmd_adaptive)
     a = ap.parse_args(argv)
+    if a.cmd == "adaptive" and not all(v > 0 for v in a.near):
+        ap.error(f"--near {a.near}: every threshold must be > 0 (contact distances)")
     try:
         return a.fn(a)
     except rz.RefineError as e:

@@ -81,3 +81,25 @@ def replay_mask(seeds: np.ndarray, stride: int = DEFAULT_STRIDE) -> np.ndarray:
         reached = np.isin(lab, hit[hit > 0])
         flat_out[k] = lat | ndimage.binary_dilation(reached, structure=eight)
     return out
+
+
+def misses(
+    success: np.ndarray, min_dist: np.ndarray, contact: float, near: float, stride: int = DEFAULT_STRIDE
+) -> dict[str, float]:
+    """What the adaptive grid at ``near`` would have missed on exhaustive (4, m, m) outcomes
+    (env, w1, w2) of one design, replayed without simulating (``min_dist`` as simulated with the
+    same early-stop setting, so the replay makes the adaptive run's choices): the share of episodes
+    it simulates, the successes and the generalists it loses."""
+    simulated = replay_mask(success | (min_dist <= near * contact), stride)
+    kept = success & simulated
+    gen, gen_kept = success.all(axis=0), kept.all(axis=0)
+    return {
+        "near": near,
+        "stride": stride,
+        "episodes": int(success.size),
+        "simulated_share": float(simulated.mean()),
+        "successes": int(success.sum()),
+        "successes_missed": int((success & ~simulated).sum()),
+        "generalists": int(gen.sum()),
+        "generalists_missed": int((gen & ~gen_kept).sum()),
+    }
