@@ -71,3 +71,34 @@ def test_disagreement_picks_the_largest_difference_then_the_most_generalists() -
     mj = pd.DataFrame({"design": [0, 1, 2, 3, 4], "generalists": [4, 4, 3, 3, 2]})
     assert pick(pb, mj) == 2  # |diff| 3 for designs 1, 2, 3; 2 and 3 have 9 generalists; 2 first
     assert pick(pb.iloc[[0, 1, 4]], mj.iloc[[0, 1, 4]]) == 1
+
+
+def test_reproduction_engine_rows_on_the_committed_surveys() -> None:
+    """The reproduction table's pybullet-vs-MuJoCo rows (beyond the paper): rho as scipy gives it
+    on the two committed tables, the non-zero subset and the top-10 overlap by the project's ranking."""
+    import dataclasses
+
+    from scipy import stats
+
+    from morphlearn import metrics
+    from morphlearn.figures import data as fd
+    from morphlearn.figures import reproduction as rp
+
+    emp = fd.load_results(ROOT / "results/survey", "empirical", None)
+    mj_table = pd.read_csv(MJ / "survey_metrics.csv")
+    mj = dataclasses.replace(emp, model="mujoco", table=mj_table)
+    rows = {r["key"]: r for r in rp.engine_rows(emp, mj, ("empirical", "mujoco"), "MuJoCo", "cfg")}
+    assert {r["paper"] for r in rows.values()} == {rp.BEYOND_ENGINES}
+    pb = emp.table.set_index("design").loc[mj_table.design].reset_index()
+    for m in metrics.METRICS:
+        a, b = pb[m].to_numpy(float), mj_table[m].to_numpy(float)
+        rho = stats.spearmanr(a, b).statistic
+        assert rows[f"engines_mujoco_rho_{m}"]["ours"].startswith(f"{rho:.3f} [")
+        nz = (a > 0) | (b > 0)
+        assert f"{nz.sum()} designs" in rows[f"engines_mujoco_rho_{m}_nonzero"]["ours"]
+        assert rows[f"engines_mujoco_rho_{m}_nonzero"]["ours"].startswith(
+            f"{stats.spearmanr(a[nz], b[nz]).statistic:.3f} ["
+        )
+        top_a = set(metrics.rank_designs(pb, m).design[:10])
+        top_b = set(metrics.rank_designs(mj_table, m).design[:10])
+        assert rows[f"engines_mujoco_top10_{m}"]["ours"] == f"{len(top_a & top_b)} of 10"

@@ -61,6 +61,8 @@ class Physics(Model):
 
     #: The engine, as records and captions name it.
     engine: ClassVar[str]
+    #: The engine as prose names it (tables, docs).
+    engine_label: ClassVar[str] = ""
     #: Fig. 1C draws this engine's body (read even when the model is off, if figures are drawn).
     figure_body: ClassVar[bool] = False
     cli_options = ("morphology",)

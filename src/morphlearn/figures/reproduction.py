@@ -70,6 +70,8 @@ COLUMNS = ["key", "quantity", "paper", "ours", "config", "note"]
 BEYOND = "beyond the paper (no learning algorithm tested)"
 #: The paper's column for the theory-vs-physics rank agreement (issue 12).
 BEYOND_MODELS = "beyond the paper (the two models were not compared design by design)"
+#: The paper's column for the comparison of two physics engines (issue 25).
+BEYOND_ENGINES = "beyond the paper (one physics engine, pybullet)"
 LEARNER_LABELS = {"random": "random search", "one_plus_one": "(1+1)-ES", "cmaes": "CMA-ES"}
 
 
@@ -111,15 +113,23 @@ def is_survey(theory: fd.ModelResults | None, empirical: fd.ModelResults | None)
     return empirical.n_designs == gridmod.DesignGrid(theory.positions_per_axis or 0).size
 
 
-def survey_rows(theory: fd.ModelResults, empirical: fd.ModelResults, config_name: str) -> list[dict[str, str]]:
+def survey_rows(
+    theory: fd.ModelResults,
+    empirical: fd.ModelResults,
+    config_name: str,
+    model: str = "empirical",
+    label: str = "empirical survey",
+) -> list[dict[str, str]]:
     """Rows of the survey: the paper's empirical claims that need every design (asymmetric
     designs best on both metrics, generalists rare) and, beyond the paper, whether the theory's
-    ranking of designs carries over (Spearman rho with a 95 % bootstrap interval)."""
-    from morphlearn import compare, metrics
+    ranking of designs carries over (Spearman rho with a 95 % bootstrap interval). ``model``
+    names the physics model's table (keys of other engines than the reference are prefixed with
+    it, quantities with ``label``)."""
+    from morphlearn import compare, metrics, models
 
     t = empirical.table
     n = len(t)
-    both = compare.joined(theory.table, t)
+    both = compare.joined(theory.table, t, names=(models.REFERENCE, model))
     agree = compare.agreement(both)
     top_l, top_cf = metrics.rank_designs(t, "M_L"), metrics.rank_designs(t, "M_CF")
     best = top_l.iloc[0]
@@ -140,37 +150,97 @@ def survey_rows(theory: fd.ModelResults, empirical: fd.ModelResults, config_name
         f"{fd.design_label(*fd.row_design(r))} (M_L {r.M_L:.4g}, M_CF {r.M_CF:.4g})"
         for _, r in top_l.head(3).iterrows()
     )
+    engine = "physics" if label == "empirical survey" else label.split()[0]
     items = [
         (
             "survey_share_with_generalist",
-            "empirical survey: designs with at least one generalist",
+            f"{label}: designs with at least one generalist",
             "(not stated)",
             f"{with_g} of {n} ({with_g / n:.1%})",
         ),
-        ("survey_best_designs", "empirical survey: the best designs by M_L", "(Fig. 3C, not as coordinates)", top3),
+        ("survey_best_designs", f"{label}: the best designs by M_L", "(Fig. 3C, not as coordinates)", top3),
         (
             "survey_canonical_rank",
-            "empirical survey: the canonical design's rank",
+            f"{label}: the canonical design's rank",
             "below the best asymmetric design on both metrics",
             canon_rank,
         ),
         (
             "survey_best_on_both",
-            "empirical survey: one design (or mirror pair) best by both M_L and M_CF",
+            f"{label}: one design (or mirror pair) best by both M_L and M_CF",
             "yes",
             "yes" if same_pair else f"no (best by M_CF: {fd.design_label(*fd.row_design(top_cf.iloc[0]))})",
         ),
-        ("survey_rho_M_L", "theory vs physics: Spearman rho of M_L over designs", BEYOND_MODELS, agree["M_L"].text()),
+        ("survey_rho_M_L", f"theory vs {engine}: Spearman rho of M_L over designs", BEYOND_MODELS, agree["M_L"].text()),
         (
             "survey_rho_M_CF",
-            "theory vs physics: Spearman rho of M_CF over designs",
+            f"theory vs {engine}: Spearman rho of M_CF over designs",
             BEYOND_MODELS,
             agree["M_CF"].text(),
         ),
     ]
-    note = f"empirical: {science_summary(empirical)}"
+    note = f"{model}: {science_summary(empirical)}"
+    prefix = "" if label == "empirical survey" else f"{model}_"
     return [
-        {"key": k, "quantity": q, "paper": p, "ours": o, "config": config_name, "note": note} for k, q, p, o in items
+        {"key": prefix + k, "quantity": q, "paper": p, "ours": o, "config": config_name, "note": note}
+        for k, q, p, o in items
+    ]
+
+
+def physics_models() -> list[str]:
+    """The registered physics engines' model names, the reference engine (pybullet) first."""
+    from morphlearn import models
+    from morphlearn.empirical.plugin import Physics
+
+    return sorted(
+        (n for n, m in models.MODELS.items() if isinstance(m, Physics)), key=lambda n: not models.get(n).figure_body
+    )  # type: ignore[attr-defined]
+
+
+def _engine_label(name: str) -> str:
+    from morphlearn import models
+
+    m = models.get(name)
+    return getattr(m, "engine_label", "") or getattr(m, "engine", name)
+
+
+def engine_rows(
+    reference: fd.ModelResults, other: fd.ModelResults, names: tuple[str, str], label: str, config_name: str
+) -> list[dict[str, str]]:
+    """Beyond the paper: does a second physics engine rank the designs as the reference engine
+    does? Spearman rho with 95 % bootstrap intervals over the designs both hold, and over those
+    non-zero in either; top-10 overlap (ranks as :func:`metrics.rank_designs`)."""
+    from morphlearn import compare, metrics
+
+    both = compare.joined(reference.table, other.table, names=names)
+    a, b = names
+    ref = _engine_label(a)
+    items = []
+    for m in metrics.METRICS:
+        ag = compare.spearman_ci(both[f"{m}_{a}"], both[f"{m}_{b}"], m)
+        nz = both[(both[f"{m}_{a}"] > 0) | (both[f"{m}_{b}"] > 0)]
+        ag_nz = compare.spearman_ci(nz[f"{m}_{a}"], nz[f"{m}_{b}"], m) if len(nz) > 2 else None
+        top = int(((both[f"rank_{m}_{a}"] <= 10) & (both[f"rank_{m}_{b}"] <= 10)).sum())
+        items += [
+            (f"rho_{m}", f"{ref} vs {label}: Spearman rho of {m} over designs", ag.text()),
+            (
+                f"rho_{m}_nonzero",
+                f"{ref} vs {label}: Spearman rho of {m}, designs non-zero in either",
+                ag_nz.text() if ag_nz is not None else f"{len(nz)} designs: too few",
+            ),
+            (f"top10_{m}", f"{ref} vs {label}: designs in both top 10 by {m}", f"{top} of 10"),
+        ]
+    note = f"{b}: {science_summary(other)}"
+    return [
+        {
+            "key": f"engines_{b}_{k}",
+            "quantity": q,
+            "paper": BEYOND_ENGINES,
+            "ours": o,
+            "config": config_name,
+            "note": note,
+        }
+        for k, q, o in items
     ]
 
 
@@ -285,9 +355,11 @@ def reproduction_table(
     config_name: str,
     near: float,
     learners: pd.DataFrame | None = None,
+    engines: dict[str, fd.ModelResults] | None = None,
 ) -> pd.DataFrame:
     """The table, one row per entry of ``QUANTITIES`` in that order, then the learner rows (beyond
-    the paper) when ``learners`` (learners/correlations.csv) is given."""
+    the paper) when ``learners`` (learners/correlations.csv) is given, and for each further
+    physics engine in ``engines`` (model name -> results) its survey and engine-agreement rows."""
     ours: dict[str, tuple[str, str]] = {}
     if theory is not None:
         ours |= theory_rows(theory, persistence, near)
@@ -309,6 +381,12 @@ def reproduction_table(
         )
     if is_survey(theory, empirical):
         rows += survey_rows(theory, empirical, config_name)
+    for name, res in (engines or {}).items():
+        label = _engine_label(name)
+        if is_survey(theory, res):
+            rows += survey_rows(theory, res, config_name, model=name, label=f"{label} survey")
+        if empirical is not None:
+            rows += engine_rows(empirical, res, (physics_models()[0], name), label, config_name)
     if learners is not None:
         rows += learner_rows(learners, config_name)
     return pd.DataFrame(rows, columns=COLUMNS)
@@ -354,4 +432,5 @@ def run(
     if theory is None:
         raise FileNotFoundError(f"no theory results under {results_dir}")
     pers = persistence_counts(theory, fd.TheorySettings(**settings), near, limit)
-    return reproduction_table(theory, emp, pers, config_name, near, corr), pers
+    engines = {m: r for m, r in res.items() if m in physics_models()[1:] and r is not None}
+    return reproduction_table(theory, emp, pers, config_name, near, corr, engines), pers

@@ -16,6 +16,7 @@ if TYPE_CHECKING:
 class Mujoco(Physics):
     name = "mujoco"
     engine = "mujoco"
+    engine_label = "MuJoCo"
     env_file = "envs/empirical.yaml"  # the physics environment holds both engines
 
     @staticmethod
