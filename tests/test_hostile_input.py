@@ -377,6 +377,21 @@ def test_schema_has_only_json_schema_keywords_and_the_generator_refuses_others(t
         assert full in doc
 
 
+@pytest.mark.parametrize("kind", ["missing", "empty", "binary", "duplicate_top", "list"])
+def test_workflow_start_check_names_a_bad_or_missing_config_yaml(
+    kind: str, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """The Snakefile's first check (before Snakemake reads config.yaml): was a WorkflowError or
+    traceback, exit 1 (the file is read by Snakemake's own loader)."""
+    monkeypatch.chdir(tmp_path)
+    if kind != "missing":
+        (tmp_path / "config.yaml").write_bytes(BAD_FILES[kind][0])
+    with pytest.raises(config.ConfigError) as e:
+        config.check_start(tmp_path, ["config.yaml"])
+    needle = "cannot read (No such file or directory)" if kind == "missing" else BAD_FILES[kind][1]
+    assert str(e.value).startswith("config.yaml: ") and needle in str(e.value), str(e.value)
+
+
 # --- the workflow: what only Snakemake shows (dry runs in one shared copy) ------------------------
 
 
