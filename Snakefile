@@ -14,6 +14,16 @@ blas_kernel.pin()
 
 min_version("9.0")
 
+# Refused at start (one line, exit 2): a run from another folder, a config file that is not a YAML
+# mapping with each key once (Snakemake keeps the last of two equal keys silently).
+from morphlearn import config as cfgmod
+
+try:
+    cfgmod.check_start(workflow.basedir, [*workflow.configfiles, "config.yaml"])
+except cfgmod.ConfigError as err:
+    print(f"morphlearn: config error: {err}", file=sys.stderr)
+    sys.exit(2)
+
 
 configfile: "config.yaml"
 

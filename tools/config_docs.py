@@ -18,6 +18,31 @@ SCHEMA = ROOT / "src/morphlearn/config_schema.yaml"
 OUT = ROOT / "config/README.md"
 
 
+#: The JSON Schema keywords the schema uses. Any other key is a typo or an unquoted comma in a flow
+#: mapping (``{description: a, b}`` makes a key ``b``): the description is cut short and the key
+#: is silently ignored by the validator.
+KEYWORDS = frozenset(
+    "$schema type additionalProperties required properties default description minimum maximum "
+    "exclusiveMinimum exclusiveMaximum minLength enum const items minItems maxItems uniqueItems "
+    "oneOf anyOf".split()
+)
+
+
+def unknown_keywords(s: Any, where: str = "") -> list[str]:
+    """'key: keyword' for every key of a (sub)schema that is not a JSON Schema keyword."""
+    if not isinstance(s, dict):
+        return []
+    out = [f"{where or '<top level>'}: {k!r}" for k in s if k not in KEYWORDS]
+    for k, sub in s.get("properties", {}).items():
+        out += unknown_keywords(sub, f"{where}.{k}" if where else k)
+    for key in ("items",):
+        out += unknown_keywords(s.get(key), f"{where}[]")
+    for key in ("oneOf", "anyOf"):
+        for i, sub in enumerate(s.get(key, [])):
+            out += unknown_keywords(sub, f"{where}.{key}[{i}]")
+    return out
+
+
 def _allowed(s: dict[str, Any]) -> str:
     parts = []
     if "enum" in s:
@@ -59,6 +84,9 @@ def rows(schema: dict[str, Any], prefix: str = "") -> list[str]:
 
 def render() -> str:
     schema = yaml.safe_load(SCHEMA.read_text())
+    bad = unknown_keywords(schema)
+    if bad:
+        raise ValueError(f"{SCHEMA.name}: not JSON Schema keywords (an unquoted comma?): {'; '.join(bad)}")
     return "\n".join(
         [
             "# Configuration keys",

@@ -10,6 +10,7 @@ import re
 import sys
 from collections.abc import Iterator, Sequence
 from contextlib import contextmanager
+from typing import Any, NoReturn
 
 import numpy as np
 
@@ -34,6 +35,13 @@ def c_stdout_to_stderr() -> Iterator[None]:
 
 class UsageError(ValueError):
     """Bad command-line input: one line, exit code 2."""
+
+
+class _Parser(argparse.ArgumentParser):
+    """argparse's own refusals (a flag's type, a missing argument) in one line too, exit 2."""
+
+    def error(self, message: str) -> NoReturn:
+        self.exit(2, f"{self.prog}: error: {message} (see {self.prog} --help)\n")
 
 
 def _position(name: str, xy: Sequence[float]) -> tuple[float, float]:
@@ -68,6 +76,19 @@ def cmd_design(a: argparse.Namespace) -> int:
     for name in POSITIVE:
         _positive(f"--{name}", getattr(a, name))
     model = models.get(a.model)
+    if a.model == "theory":  # the config's rule (settings.check_theory), with the CLI's defaults
+        from morphlearn.settings import check_theory
+        from morphlearn.theory.plugin import CLI_HORIZON, CLI_R, CLI_RADIUS
+
+        th = {
+            "r": CLI_R if a.r is None else a.r,
+            "horizon": CLI_HORIZON if a.horizon is None else a.horizon,
+            "success_radius": CLI_RADIUS,
+            "integrator": "dp5" if a.dt is None else "rk4",
+            "dt": a.dt,
+        }
+        flags = {"r": "--r", "horizon": "--horizon", "dt": "--dt"}
+        check_theory(th, flags.get)
     # another model's options are refused rather than silently ignored
     others = {o: n for n, m in models.MODELS.items() for o in m.cli_options if o not in model.cli_options}
     given = [o for o in others if getattr(a, o) is not None]
@@ -102,6 +123,13 @@ def cmd_design(a: argparse.Namespace) -> int:
 def cmd_verify(a: argparse.Namespace) -> int:
     from morphlearn import verify
 
+    if a.samples < 1:
+        raise UsageError(f"--samples = {a.samples}; allowed: an integer >= 1 (cells to re-evaluate)")
+    if a.seed < 0:
+        raise UsageError(f"--seed = {a.seed}; allowed: an integer >= 0")
+    if a.workers < 1:
+        raise UsageError(f"--workers = {a.workers}; allowed: an integer >= 1")
+    _positive("--time-tol", a.time_tol)
     rep = verify.verify(a.merged, samples=a.samples, seed=a.seed, workers=a.workers, time_tol=a.time_tol)
     print(json.dumps(rep.as_dict(), sort_keys=True) if a.json else verify.format_report(rep))
     return 0 if rep.ok else 1
@@ -114,6 +142,9 @@ def cmd_check_bundle(a: argparse.Namespace) -> int:
 
     if not Path(a.bundle).is_dir():
         raise UsageError(f"{a.bundle}: no such folder (a results bundle, e.g. results/paper)")
+    for which in a.resimulate:  # before the bundle is read (the index range is checked with it)
+        if which not in ("canonical", "best_M_L", "best_M_CF") and not which.isdigit():
+            raise UsageError(f"--resimulate {which!r}; allowed: canonical, best_M_L, best_M_CF or a design index >= 0")
     problems = bundle_check.check(a.bundle)
     for line in problems:
         print(line)
@@ -133,32 +164,37 @@ def cmd_check_bundle(a: argparse.Namespace) -> int:
 def cmd_compare(a: argparse.Namespace) -> int:
     """Rank agreement of two metrics tables over the designs both hold (theory vs physics, or one
     body vs another)."""
-    from pathlib import Path
+    import warnings
 
-    import pandas as pd
+    from scipy import stats
 
     from morphlearn import compare, metrics
 
-    tables = []
-    for path in (a.a, a.b):
-        if not Path(path).is_file():
-            raise UsageError(f"{path}: no such file (a metrics table, e.g. results/survey/empirical/metrics.csv)")
-        tables.append(pd.read_csv(path, comment="#"))
+    if a.top < 1:
+        raise UsageError(f"--top = {a.top}; allowed: an integer >= 1 (designs in each top list)")
+    if a.resamples < compare.MIN_RESAMPLES:
+        raise UsageError(
+            f"--resamples = {a.resamples}; allowed: an integer >= {compare.MIN_RESAMPLES} (bootstrap "
+            "resamples of a 95 % interval; the config's learners.bootstrap has the same minimum)"
+        )
+    tables = [compare.read_table(path) for path in (a.a, a.b)]
     both = compare.joined(*tables)
     if len(both) < 3:
         raise UsageError(f"the two tables share {len(both)} designs; need at least 3")
-    agree = compare.agreement(both, a.resamples)
-    out = {"designs": len(both)}
+    with warnings.catch_warnings():  # a constant column: the line below says so, in our words
+        warnings.simplefilter("ignore", stats.ConstantInputWarning)
+        warnings.simplefilter("ignore", stats.DegenerateDataWarning)
+        agree = compare.agreement(both, a.resamples)
+    out: dict[str, Any] = {"designs": len(both)}
     for m, r in agree.items():  # every registered metric
-        out[m] = {"rho": r.rho, "low": r.low, "high": r.high}
+        defined = not np.isnan(r.rho)  # NaN: a model gives every shared design the same value (JSON: null)
+        out[m] = {k: (v if defined else None) for k, v in (("rho", r.rho), ("low", r.low), ("high", r.high))}
         top_a = set(metrics.rank_designs(tables[0][tables[0].design.isin(both.design)], m).design[: a.top])
         top_b = set(metrics.rank_designs(tables[1][tables[1].design.isin(both.design)], m).design[: a.top])
         out[m]["top_shared"] = len(top_a & top_b)
         print(f"{m}: Spearman rho {r.text()}; top {a.top} by {m} shared: {len(top_a & top_b)}")
     if a.json:
-        import json
-
-        print(json.dumps(out))
+        print(json.dumps(out, allow_nan=False))
     return 0
 
 
@@ -177,7 +213,7 @@ def build_parser() -> argparse.ArgumentParser:
     from morphlearn.empirical.plugin import DEFAULT_MORPHOLOGY
     from morphlearn.models import MODELS, REFERENCE
 
-    p = argparse.ArgumentParser(prog="morphlearn", description=__doc__)
+    p = _Parser(prog="morphlearn", description=__doc__)
     p.add_argument("--version", action=_Version, nargs=0, help="print version and git commit, and exit")
     sub = p.add_subparsers(dest="cmd", required=True)
     d = sub.add_parser("design", help="evaluate one design over the M x M weight grid")

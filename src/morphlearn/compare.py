@@ -10,16 +10,56 @@ which Spearman's rho handles by mid-ranks.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from pathlib import Path
 
 import numpy as np
 import pandas as pd
 from scipy import stats
 
-from morphlearn import metrics, models
+from morphlearn import config, metrics, models
 
 COORDS = ["l1x", "l1y", "l2x", "l2y"]
 #: The default names of the two tables (their columns' suffixes): the first two registered models.
 PAIR: tuple[str, str] = tuple(models.MODELS)[:2]  # type: ignore[assignment]
+
+
+#: Fewest bootstrap resamples of an interval: the config's ``learners.bootstrap`` minimum (one rule).
+MIN_RESAMPLES: int = config.schema()["properties"]["learners"]["properties"]["bootstrap"]["minimum"]
+
+
+def read_table(path: str | Path) -> pd.DataFrame:
+    """A metrics table (``<model>/metrics.csv``) checked for what :func:`joined` and the ranking
+    read: the columns, integer design indices once each, finite metrics in [0, 1]. Raises
+    ValueError with one line naming the file, the column and what is allowed."""
+    cols = ["design", *COORDS, "generalists", *metrics.METRICS]
+    what = "allowed: a metrics.csv written by the workflow (e.g. results/survey/theory/metrics.csv)"
+    if not Path(path).is_file():
+        raise ValueError(f"{path}: no such file; {what}")
+    try:
+        t = pd.read_csv(path, comment="#")
+    except (ValueError, UnicodeDecodeError, pd.errors.ParserError) as e:  # EmptyDataError is a ValueError
+        raise ValueError(f"{path}: not a CSV table ({type(e).__name__}); {what}") from None
+    missing = [c for c in cols if c not in t.columns]
+    if missing:
+        raise ValueError(f"{path}: not a metrics table (no column{'s' if len(missing) > 1 else ''} {missing}); {what}")
+    for c in cols:
+        v = pd.to_numeric(t[c], errors="coerce").to_numpy(dtype=float)
+        bad = ~np.isfinite(v)
+        if c in metrics.METRICS:
+            bad |= (v < 0) | (v > 1)
+        elif c == "design" or c == "generalists":
+            bad |= (v < 0) | (v != np.round(v))
+        if bad.any():
+            i = int(np.argmax(bad))
+            allowed = "a number in [0, 1]" if c in metrics.METRICS else "a finite number"
+            if c in ("design", "generalists"):
+                allowed = "an integer >= 0"
+            raise ValueError(f"{path}: data row {i + 1}: {c} = {str(t[c].iloc[i])!r}; allowed: {allowed}")
+        t[c] = v.astype(np.int64) if c in ("design", "generalists") else v
+    dup = t.design.duplicated()
+    if dup.any():
+        raise ValueError(f"{path}: design {int(t.design[dup].iloc[0])} appears twice; allowed: each design once")
+    return t
 
 
 def joined(a: pd.DataFrame, b: pd.DataFrame, names: tuple[str, str] = PAIR) -> pd.DataFrame:

@@ -20,6 +20,19 @@ class ConfigError(ValueError):
     """A bad configuration value; the message names the key and what is allowed."""
 
 
+def _strict_integer(_: Any, instance: Any) -> bool:
+    """JSON Schema counts 5.0 as an integer; here an integer is an int (``grid.weights: 5.0``
+    crashed a shard, ``max_steps: 10000.0`` changed the science digest). bool is not one."""
+    return isinstance(instance, int) and not isinstance(instance, bool)
+
+
+#: Draft 2020-12 with integers that are ints.
+_Validator = jsonschema.validators.extend(
+    jsonschema.Draft202012Validator,
+    type_checker=jsonschema.Draft202012Validator.TYPE_CHECKER.redefine("integer", _strict_integer),
+)
+
+
 def schema() -> dict[str, Any]:
     text = resources.files("morphlearn").joinpath("config_schema.yaml").read_text()
     return yaml.safe_load(text)
@@ -67,7 +80,7 @@ def validate(cfg: dict[str, Any]) -> dict[str, Any]:
         raise ConfigError(f"config must be a mapping, got {type(cfg).__name__}")
     _check_finite(cfg, "")
     sch = schema()
-    errors = sorted(jsonschema.Draft202012Validator(sch).iter_errors(cfg), key=lambda e: list(e.absolute_path))
+    errors = sorted(_Validator(sch).iter_errors(cfg), key=lambda e: list(e.absolute_path))
     if errors:
         raise ConfigError(_describe(errors[0]))
     out = copy.deepcopy(cfg)
@@ -88,6 +101,34 @@ def _check_finite(obj: Any, key: str) -> None:
         raise ConfigError(
             f"{key} = {obj!r} is not a finite number; allowed: finite numbers in the range the schema gives"
         )
+
+
+#: Characters a path key may not hold: Snakemake reads braces in input/output paths as wildcards.
+UNSAFE_PATH_CHARS = "{}"
+#: Path keys that become Snakemake input or output paths (``scenario_file`` is read by Python only).
+PATH_KEYS = ("results_dir", "bundle_dir", "empirical.morphology", "empirical.results_from")
+
+
+def check_path(key: str, value: str | None) -> None:
+    """Refuse at start a path Snakemake cannot hold as a file name (braces: a WildcardError after
+    the config is read) or that holds a line break (no log line or shell command can quote it)."""
+    if value is None:
+        return
+    bad = sorted({c for c in value if c in UNSAFE_PATH_CHARS or c in "\n\r\x00"})
+    if bad:
+        raise ConfigError(
+            f"{key} = {value!r} holds {' and '.join(repr(c) for c in bad)}; allowed: a path without "
+            "'{', '}' (Snakemake reads them as wildcards), line breaks or NUL"
+        )
+
+
+def _check_paths(cfg: dict[str, Any]) -> None:
+    for key in PATH_KEYS:
+        sec, _, name = key.rpartition(".")
+        holder = cfg.get(sec, {}) if sec else cfg
+        check_path(key, holder.get(name) if isinstance(holder, dict) else None)
+    check_path("mujoco.morphology", cfg.get("mujoco", {}).get("morphology"))
+    check_path("mujoco.results_from", cfg.get("mujoco", {}).get("results_from"))
 
 
 def _check_results_dir(rd: str) -> None:
@@ -118,22 +159,12 @@ def _check_analysis(a: dict[str, Any], th: dict[str, Any]) -> None:
             f"analysis.horizon = {a['horizon']} with analysis.success_radius = {rad} above the simulated "
             f"radius; allowed: null or {th['horizon']} (a larger radius is known only at the simulated horizon)"
         )
-    if th["success_radius"] >= th["r"]:
-        raise ConfigError(
-            f"theory.success_radius = {th['success_radius']} is not below theory.r = "
-            f"{th['r']}; allowed: < {th['r']} (the robot would start inside the light)"
-        )
-    need = math.ceil(th["horizon"] / th["dt"])
-    if th["integrator"] == "rk4" and th["max_steps"] < need:  # the cap would cut every trajectory short
-        raise ConfigError(
-            f"theory.max_steps = {th['max_steps']} is below the {need} steps that theory.integrator "
-            f"= rk4 takes (horizon / dt); allowed: max_steps >= {need}, or a larger dt"
-        )
 
 
 def _check_cross(cfg: dict[str, Any]) -> None:
     """Checks across keys that need no design grid or file (those are the settings' and each
     model's: :func:`morphlearn.settings.parse`)."""
+    _check_paths(cfg)
     _check_results_dir(cfg["results_dir"])
     th = cfg["theory"]
     _check_analysis(cfg["analysis"], th)
@@ -156,18 +187,97 @@ def load(path: str | Path, overrides: list[str | Path] = ()) -> dict[str, Any]:
     return validate(read(path, overrides))
 
 
-def _read_yaml(path: str | Path) -> dict[str, Any]:
+class _DuplicateKey(yaml.constructor.ConstructorError):
+    pass
+
+
+class _UniqueKeyLoader(yaml.SafeLoader):
+    """PyYAML keeps the last of two equal keys silently: a key given twice is refused."""
+
+    def construct_mapping(self, node: yaml.MappingNode, deep: bool = False) -> dict[Any, Any]:
+        seen: dict[Any, yaml.Mark] = {}
+        for key_node, _ in node.value:
+            if key_node.tag == "tag:yaml.org,2002:merge":  # '<<: *anchor' merges are overrides by design
+                continue
+            key = self.construct_object(key_node, deep=True)
+            try:
+                first = seen.setdefault(key, key_node.start_mark)
+            except TypeError:  # an unhashable key: the base class says so
+                continue
+            if first is not key_node.start_mark:
+                raise _DuplicateKey(
+                    None,
+                    None,
+                    f"key {key!r} given twice (lines {first.line + 1} and {key_node.start_mark.line + 1})",
+                    key_node.start_mark,
+                )
+        return super().construct_mapping(node, deep)
+
+
+def yaml_mapping(path: str | Path, what: str = "config keys") -> dict[str, Any]:
+    """A YAML file whose top level is a mapping with unique keys. Every way it can be bad
+    (unreadable, not UTF-8 text, malformed, a key twice, empty, another shape) raises ValueError
+    with one line saying what, without the path (the caller names the file or the key)."""
     try:
-        data = yaml.safe_load(Path(path).read_text())
+        raw = Path(path).read_bytes()
+    except OSError as e:
+        raise ValueError(f"cannot read ({e.strerror})") from None
+    try:
+        text = raw.decode("utf-8")
+    except UnicodeDecodeError as e:
+        raise ValueError(
+            f"not a UTF-8 text file (byte 0x{raw[e.start]:02x} at offset {e.start}); allowed: a YAML mapping of {what}"
+        ) from None
+    if "\x00" in text:
+        raise ValueError(
+            f"not a text file (NUL byte at offset {text.index(chr(0))}); allowed: a YAML mapping of {what}"
+        )
+    try:
+        data = yaml.load(text, Loader=_UniqueKeyLoader)  # a SafeLoader subclass
+    except yaml.reader.ReaderError as e:
+        raise ValueError(
+            f"not a text file (control character at offset {e.position}); allowed: a YAML mapping of {what}"
+        ) from None
+    except _DuplicateKey as e:
+        raise ValueError(f"{e.problem}; allowed: each key once (YAML would keep the last value silently)") from None
     except yaml.YAMLError as e:
         mark = getattr(e, "problem_mark", None)
-        where = f" at line {mark.line + 1}, column {mark.column + 1}" if mark else ""
-        raise ConfigError(f"{path}: malformed YAML{where}") from None
-    except OSError as e:
-        raise ConfigError(f"{path}: cannot read ({e.strerror})") from None
+        raise ValueError(
+            "malformed YAML" + (f" at line {mark.line + 1}, column {mark.column + 1}" if mark else "")
+        ) from None
+    if data is None:
+        raise ValueError(f"empty (no keys); allowed: a YAML mapping of {what}")
     if not isinstance(data, dict):
-        raise ConfigError(f"{path}: top level must be a mapping of keys")
+        kind = {"list": "a list", "str": "a string", "int": "a number", "float": "a number", "bool": "true/false"}
+        raise ValueError(
+            f"top level is {kind.get(type(data).__name__, type(data).__name__)}, not a mapping; "
+            f"allowed: a YAML mapping of {what}"
+        )
     return data
+
+
+def _read_yaml(path: str | Path) -> dict[str, Any]:
+    try:
+        return yaml_mapping(path)
+    except ValueError as e:
+        raise ConfigError(f"{path}: {e}") from None
+
+
+def check_start(basedir: str | Path, configfiles: list[str | Path]) -> None:
+    """The workflow's first check, before Snakemake reads ``config.yaml``: it runs from its own
+    folder (``config.yaml``, ``config/``, ``notebooks/`` and ``src/`` are read relative to the
+    working directory; from elsewhere a missing config.yaml was skipped silently and the schema
+    then named a missing key), and each config file is a YAML mapping with each key once
+    (Snakemake keeps the last of two equal keys silently). Raises ConfigError."""
+    here, root = Path.cwd().resolve(), Path(basedir).resolve()
+    if here != root:
+        raise ConfigError(
+            f"the workflow runs from its own folder {root} (config.yaml, config/, notebooks/ and src/ "
+            f"are read relative to the working directory), not from {here}; allowed: cd {root} first "
+            f"(or snakemake --directory {root})"
+        )
+    for f in configfiles:
+        _read_yaml(f)
 
 
 def deep_merge(base: dict[str, Any], over: dict[str, Any]) -> dict[str, Any]:

@@ -11,7 +11,8 @@ model adds no field here: ``settings.models[name]``.
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+import math
+from collections.abc import Callable, Mapping
 from dataclasses import asdict, dataclass
 from functools import cached_property
 from pathlib import Path
@@ -132,6 +133,38 @@ class Settings:
         return weights(self.models[model].weights)
 
 
+def check_theory(th: Mapping[str, Any], name: Callable[[str], str | None]) -> None:
+    """The one rule for physically meaningful theory settings, for the config (``theory.*``) and the
+    CLI (``morphlearn design --r/--horizon/--dt``): ``th`` holds r, horizon, success_radius,
+    integrator, dt and (config only) max_steps; ``name(key)`` is how the caller spells a key, None
+    for a value the caller fixes (the CLI's success radius). Raises ConfigError (a ValueError)."""
+    r, rad, horizon = th["r"], th["success_radius"], th["horizon"]
+    if rad >= r:  # the light within the success radius at the start: every controller succeeds at t = 0
+        if name("success_radius") is None:
+            raise cfgmod.ConfigError(
+                f"{name('r')} = {r} is not beyond the success radius {rad}; allowed: {name('r')} > {rad} "
+                "(the robot would start inside the light)"
+            )
+        raise cfgmod.ConfigError(
+            f"{name('success_radius')} = {rad} is not below {name('r')} = {r}; allowed: < {r} "
+            "(the robot would start inside the light)"
+        )
+    if th["integrator"] != "rk4":
+        return
+    dt = th["dt"]
+    if dt >= horizon:  # one step (or none) over the whole horizon: no trajectory is simulated
+        raise cfgmod.ConfigError(
+            f"{name('dt')} = {dt} is not shorter than {name('horizon')} = {horizon}; allowed: "
+            f"{name('dt')} < {horizon} (a fixed step at least the horizon simulates nothing)"
+        )
+    need = math.ceil(horizon / dt)
+    if th.get("max_steps") is not None and th["max_steps"] < need:  # the cap would cut every trajectory short
+        raise cfgmod.ConfigError(
+            f"{name('max_steps')} = {th['max_steps']} is below the {need} steps that {name('integrator')} "
+            f"= rk4 takes (horizon / dt); allowed: max_steps >= {need}, or a larger dt"
+        )
+
+
 def _section(cls: type, sec: Mapping[str, Any]) -> Any:
     """A dataclass from a config section: lists become tuples (frozen, hashable)."""
     return cls(**{k: tuple(sec[k]) if isinstance(sec[k], list) else sec[k] for k in cls.__dataclass_fields__})
@@ -143,6 +176,7 @@ def parse(cfg: Mapping[str, Any]) -> Settings:
     from morphlearn import models
 
     v = cfgmod.validate(dict(cfg))
+    check_theory(v["theory"], lambda k: f"theory.{k}")
     grid = _section(GridSettings, v["grid"])
     sweep = _section(SweepSettings, v["sweep"])
     figures = _section(FigureSettings, v["figures"])

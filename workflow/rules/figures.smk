@@ -47,7 +47,7 @@ for _fig in FIGURES:
             # path would change, and re-render every figure, whenever the project is moved or copied
             "(export PYTHONPATH=src${{PYTHONPATH:+:$PYTHONPATH}}; "
             "papermill {input.notebook:q} {log.notebook:q} -y {params.parameters:q} && "
-            "jupyter nbconvert --to html --log-level WARN --output-dir $(dirname {output.html:q}) "
+            'jupyter nbconvert --to html --log-level WARN --output-dir "$(dirname {output.html:q})" '
             "--output {params.fig} {log.notebook:q}) > {log.text:q} 2>&1"
 
 

@@ -188,7 +188,7 @@ rule scenario_report:
         # relative, as the figures' (figures.smk): a moved project re-renders nothing
         "(export PYTHONPATH=src${{PYTHONPATH:+:$PYTHONPATH}}; "
         "papermill {input.notebook:q} {log.notebook:q} -y {params.parameters:q} && "
-        "jupyter nbconvert --to html --log-level WARN --output-dir $(dirname {output.html:q}) "
+        'jupyter nbconvert --to html --log-level WARN --output-dir "$(dirname {output.html:q})" '
         "--output comparison {log.notebook:q}) > {log.text:q} 2>&1"
 
 

@@ -42,6 +42,12 @@ class EmpiricalParams:
     def __post_init__(self) -> None:
         for f in dataclasses.fields(self):
             _check(f.name, getattr(self, f.name))
+        if self.light_distance <= self.contact_distance:  # every episode would succeed at t = 0
+            raise ValueError(
+                f"light_distance = {self.light_distance!r} is not beyond the contact distance "
+                f"{self.contact_distance:g} (0.5 + wheel_radius + light_radius): the robot would start "
+                f"touching the light; allowed: light_distance > {self.contact_distance:g}"
+            )
 
     @property
     def contact_distance(self) -> float:
@@ -111,19 +117,9 @@ def load_params(path: str | Path) -> EmpiricalParams:
     Every way the file can be bad (unreadable, malformed YAML, not a mapping, a bad value) raises
     ValueError with one line saying what, for the config check and the CLI to prefix.
     """
-    import yaml
+    from morphlearn.config import yaml_mapping
 
-    try:
-        data = yaml.safe_load(Path(path).read_text())
-    except OSError as e:
-        raise ValueError(f"cannot read ({e.strerror})") from None
-    except yaml.YAMLError as e:
-        mark = getattr(e, "problem_mark", None)
-        raise ValueError(
-            "malformed YAML" + (f" at line {mark.line + 1}, column {mark.column + 1}" if mark else "")
-        ) from None
-    if not isinstance(data, dict):
-        raise ValueError("expected a mapping of empirical parameters")
+    data = yaml_mapping(path, "empirical parameters")
     try:
         return EmpiricalParams.from_mapping(data)
     except (ValueError, TypeError) as e:

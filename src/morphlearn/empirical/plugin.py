@@ -82,7 +82,7 @@ class Physics(Model):
             body = self._read_body(sec.get("morphology", DEFAULT_MORPHOLOGY))
         overrides = dict(sec.get("params", {}))
         if enabled and results_from is None:  # a bundle's results carry their own parameters
-            self._check_params(overrides)
+            self._check_params(overrides, body)
         if body is not None:
             params = EmpiricalParams.from_mapping({**body.to_dict(), **overrides})
         simulates = enabled and results_from is None
@@ -128,7 +128,7 @@ class Physics(Model):
                 f"{self.name}.morphology = {path!r}: {e}; allowed: a YAML file of body parameters"
             ) from None
 
-    def _check_params(self, overrides: Mapping[str, Any]) -> None:
+    def _check_params(self, overrides: Mapping[str, Any], body: EmpiricalParams | None) -> None:
         for k in overrides:
             if k not in EmpiricalParams.__dataclass_fields__:
                 raise ConfigError(
@@ -136,7 +136,8 @@ class Physics(Model):
                     f"allowed: {sorted(EmpiricalParams.__dataclass_fields__)}"
                 )
         try:
-            EmpiricalParams.from_mapping(overrides)
+            # on the body they override: the light must stay beyond the body's contact distance
+            EmpiricalParams.from_mapping({**(body.to_dict() if body else {}), **overrides})
         except ValueError as e:
             raise ConfigError(f"{self.name}.params.{e}") from None
 

@@ -1,0 +1,466 @@
+"""Hostile input at the edge (issue 24, part 4): every attack below is refused at start with one line
+that names the key or flag, the value and what is allowed (exit 2 on the command line), or, where
+the input is legitimate, handled. One rule for the config and the CLI (``settings.check_theory``,
+``config.yaml_mapping``, the strict integer type of the schema).
+
+Classes: integers that are floats; physically meaningless settings; unsafe paths; bad YAML files
+(duplicate keys, empty, binary, wrong shape); every CLI command's flags; messages that name the
+real cause (a run from another folder, a committed bundle as results_dir) and a schema whose
+descriptions are not cut short. Most attacks run in-process (``settings.parse``, ``cli.main``); the
+few that only the workflow can show run ``snakemake -n`` in one shared copy of the workflow.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+import yaml
+from conftest import ROOT, copy_workflow, snakemake
+
+from morphlearn import cli, config, scenarios, settings
+
+SURVEY = ROOT / "results/survey"
+#: A small, valid theory-only config (the smoke grid; no file the figures read).
+SMALL = {
+    "grid": {"positions_per_axis": 3, "weights": 5},
+    "sweep": {"shards": 3, "threads": 1},
+    "analysis": {"top": 3},
+    "empirical": {"enabled": False},
+    "figures": {"enabled": False},
+}
+
+
+#: An empirical section that simulates (the body file is read) on SMALL's grid.
+PHYSICS = {"enabled": True, "results_from": None, "designs": [[[0.5, 0.5], [0.5, -0.5]]], "shards": 1}
+
+
+@pytest.fixture(autouse=True)
+def _at_root(monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.chdir(ROOT)  # config paths (the body file) are relative to the project root
+
+
+def _base() -> dict:
+    return config.deep_merge(config.read(ROOT / "config.yaml"), SMALL)
+
+
+def _one_line_config_error(patch: dict) -> str:
+    with pytest.raises(config.ConfigError) as e:
+        settings.parse(config.deep_merge(_base(), patch))
+    msg = str(e.value)
+    assert "\n" not in msg and "allowed" in msg, msg
+    return msg
+
+
+def _cli(argv: list[str], capsys: pytest.CaptureFixture) -> tuple[int, str, str]:
+    """``morphlearn ARGV`` in-process: exit code, stdout, our stderr lines (not pybullet's banner)."""
+    try:
+        rc = cli.main(argv)
+    except SystemExit as e:  # argparse's own refusals exit
+        rc = int(e.code or 0)
+    out, err = capsys.readouterr()
+    ours = [line for line in err.splitlines() if line.startswith("morphlearn")]
+    return rc, out, "\n".join(ours)
+
+
+def _refused(argv: list[str], capsys: pytest.CaptureFixture, *needles: str) -> str:
+    rc, out, err = _cli(argv, capsys)
+    assert rc == 2 and out == "", (argv, rc, out[-300:], err)
+    assert len(err.splitlines()) == 1 and "error" in err, err
+    for n in needles:
+        assert n in err, (n, err)
+    return err
+
+
+# --- integers are integers (config: schema type; CLI: argparse int) ----------------------------
+
+FLOAT_INTEGERS = [
+    ({"grid": {"weights": 5.0}}, "grid.weights = 5.0"),  # crashed the shard (issue 24)
+    ({"theory": {"max_steps": 10000.0}}, "theory.max_steps = 10000.0"),  # changed the science digest
+    ({"grid": {"positions_per_axis": 3.0}}, "grid.positions_per_axis = 3.0"),
+    ({"sweep": {"shards": 3.0}}, "sweep.shards = 3.0"),
+    ({"analysis": {"top": 3.0}}, "analysis.top = 3.0"),
+    ({"learners": {"seed": 1.0}}, "learners.seed = 1.0"),
+    ({"learners": {"max_designs": 4.0}}, "learners.max_designs = 4.0"),
+    ({"figures": {"persistence_controllers": 35.0}}, "figures.persistence_controllers = 35.0"),
+    ({"empirical": {"weights": 11.0}}, "empirical.weights = 11.0"),
+    ({"grid": {"weights": True}}, "grid.weights = True"),  # bool is not an integer either
+]
+
+
+@pytest.mark.parametrize(("patch", "needle"), FLOAT_INTEGERS)
+def test_whole_number_floats_refused_where_an_integer_is_meant(patch: dict, needle: str) -> None:
+    msg = _one_line_config_error(patch)
+    assert needle in msg and "integer" in msg, msg
+
+
+def test_integers_and_floats_where_numbers_are_meant_still_pass() -> None:
+    s = settings.parse(config.deep_merge(_base(), {"theory": {"r": 4, "horizon": 500}, "grid": {"weights": 5}}))
+    assert s.grid.weights == 5 and isinstance(s.grid.weights, int)
+
+
+@pytest.mark.parametrize(
+    "argv",
+    [
+        ["design", "--l1", "0.5", "0.5", "--l2", "0.5", "-0.5", "--weights", "5.0"],
+        ["verify", "--merged", "x", "--samples", "2.5"],
+        ["compare", "a.csv", "b.csv", "--top", "3.0"],
+    ],
+)
+def test_cli_integer_flags_refuse_floats_in_one_line(argv: list[str], capsys: pytest.CaptureFixture) -> None:
+    _refused(argv, capsys, "invalid int value")
+
+
+# --- physically meaningless settings: one rule (settings.check_theory) for config and CLI --------
+
+PHYSICS_CONFIG = [
+    ({"theory": {"r": 0.1}}, "theory.success_radius = 0.2 is not below theory.r = 0.1"),  # light inside
+    ({"theory": {"r": 0.2}}, "theory.success_radius = 0.2 is not below theory.r = 0.2"),
+    ({"theory": {"success_radius": 5.0}}, "theory.success_radius = 5.0 is not below theory.r = 4.0"),
+    (
+        {"theory": {"integrator": "rk4", "dt": 600, "max_steps": 10}},
+        "theory.dt = 600 is not shorter than theory.horizon = 500.0",
+    ),
+    (
+        {"theory": {"integrator": "rk4", "dt": 50, "horizon": 50, "max_steps": 10}},
+        "theory.dt = 50 is not shorter than theory.horizon = 50",
+    ),
+    ({"theory": {"integrator": "rk4"}}, "theory.max_steps = 10000 is below the 50000 steps"),
+    (
+        {"empirical": {**PHYSICS, "params": {"light_distance": 0.9}}},
+        "empirical.params.light_distance = 0.9 is not beyond the contact distance",
+    ),
+]
+
+
+@pytest.mark.parametrize(("patch", "needle"), PHYSICS_CONFIG)
+def test_config_refuses_meaningless_physics(patch: dict, needle: str) -> None:
+    msg = _one_line_config_error(patch)
+    assert needle in msg, msg
+
+
+def test_meaningful_neighbours_of_the_refused_physics_pass() -> None:
+    for ok in (
+        {"theory": {"r": 0.21}},
+        {"theory": {"integrator": "rk4", "dt": 400, "max_steps": 10}},  # a coarse step, but a step
+        {"theory": {"integrator": "dp5", "dt": 600}},  # dt is unused by the adaptive integrator
+        {"empirical": {**PHYSICS, "params": {"light_distance": 0.93}}},  # the body's contact: 0.906
+    ):
+        settings.parse(config.deep_merge(_base(), ok))
+
+
+@pytest.mark.parametrize(
+    ("flags", "needles"),
+    [
+        (["--r", "0.1"], ("--r = 0.1 is not beyond the success radius 0.2", "allowed: --r > 0.2")),
+        (["--r", "0.2"], ("--r = 0.2",)),
+        (["--dt", "600"], ("--dt = 600.0 is not shorter than --horizon = 500.0", "allowed: --dt < 500.0")),
+        (["--horizon", "1", "--dt", "1"], ("--dt = 1.0 is not shorter than --horizon = 1.0",)),
+        (["--horizon", "10", "--dt", "20"], ("--dt = 20.0",)),
+    ],
+)
+def test_cli_design_refuses_what_the_config_refuses(
+    flags: list[str], needles: tuple[str, ...], capsys: pytest.CaptureFixture
+) -> None:
+    # the issue's examples: --r 0.1 reported M_L = 1.0 and --dt 600 reported 0 successes, exit 0
+    _refused(["design", "--l1", "0.5", "0.5", "--l2", "0.5", "-0.5", "--weights", "2", *flags], capsys, *needles)
+
+
+def test_cli_design_accepts_the_neighbour(capsys: pytest.CaptureFixture) -> None:
+    rc, out, err = _cli(["design", "--l1", "0.5", "0.5", "--l2", "0.5", "-0.5", "--weights", "2", "--r", "0.3"], capsys)
+    assert rc == 0 and "M_L" in out, err
+
+
+# --- unsafe paths -----------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize(
+    ("patch", "needle"),
+    [
+        ({"results_dir": "res{x}"}, "results_dir = 'res{x}' holds '{' and '}'"),  # a WildcardError
+        ({"results_dir": "res}"}, "results_dir = 'res}' holds '}'"),
+        ({"results_dir": "a\nb"}, "results_dir = 'a\\nb' holds '\\n'"),
+        ({"bundle_dir": "b{w}"}, "bundle_dir = 'b{w}'"),
+        ({"empirical": {"morphology": "body{x}.yaml"}}, "empirical.morphology = 'body{x}.yaml'"),
+        ({"empirical": {"results_from": "results/{s}"}}, "empirical.results_from = 'results/{s}'"),
+    ],
+)
+def test_unsafe_paths_refused_at_start(patch: dict, needle: str) -> None:
+    msg = _one_line_config_error(patch)
+    assert needle in msg and "wildcards" in msg, msg
+
+
+# --- bad files: one reader for configs, scenario files and body files ---------------------------
+
+BAD_FILES = {
+    "empty": (b"", "empty (no keys)"),
+    "comment_only": (b"# nothing here\n", "empty (no keys)"),
+    "binary": (bytes(range(128, 256)) * 2, "not a UTF-8 text file (byte 0x80 at offset 0)"),
+    "nul": (b"grid:\x00\n", "not a text file (NUL byte at offset 5)"),
+    "control": (b"grid: \x07\n", "not a text file (control character"),
+    "duplicate_top": (b"results_dir: a\nresults_dir: b\n", "key 'results_dir' given twice (lines 1 and 2)"),
+    "duplicate_nested": (b"grid:\n  weights: 5\n  weights: 7\n", "key 'weights' given twice (lines 2 and 3)"),
+    "list": (b"- 1\n- 2\n", "top level is a list, not a mapping"),
+    "scalar": (b"42\n", "top level is a number, not a mapping"),
+    "malformed": (b"grid: [1, 2\n", "malformed YAML at line 2, column 1"),
+    "python_tag": (b"a: !!python/object/apply:os.system [ls]\n", "malformed YAML at line 1"),
+}
+
+
+@pytest.mark.parametrize("kind", sorted(BAD_FILES))
+def test_bad_config_file_refused_in_one_line(kind: str, tmp_path: Path) -> None:
+    data, needle = BAD_FILES[kind]
+    p = tmp_path / f"{kind}.yaml"
+    p.write_bytes(data)
+    with pytest.raises(config.ConfigError) as e:
+        settings.load(p)
+    msg = str(e.value)
+    assert msg.startswith(f"{p}: ") and needle in msg and "\n" not in msg, msg
+
+
+@pytest.mark.parametrize("kind", sorted(BAD_FILES))
+def test_bad_scenario_file_refused_in_one_line(kind: str, tmp_path: Path) -> None:
+    data, needle = BAD_FILES[kind]
+    p = tmp_path / "scenarios.yaml"
+    p.write_bytes(data)
+    with pytest.raises(config.ConfigError) as e:  # the workflow prints it and exits 2
+        scenarios.read_file(p)
+    assert needle in str(e.value) and "\n" not in str(e.value), str(e.value)
+
+
+@pytest.mark.parametrize("kind", ["empty", "binary", "duplicate_nested", "list"])
+def test_bad_body_file_refused_by_the_cli(kind: str, tmp_path: Path, capsys: pytest.CaptureFixture) -> None:
+    data, needle = BAD_FILES[kind]
+    p = tmp_path / "body.yaml"
+    p.write_bytes(data)
+    args = ["design", "--model", "empirical", "--l1", "0", "0", "--l2", "0", "0", "--morphology", str(p)]
+    _refused(args, capsys, f"--morphology {p}: {needle}")
+
+
+def test_duplicate_key_in_an_anchor_merge_is_an_override_not_an_error(tmp_path: Path) -> None:
+    p = tmp_path / "merge.yaml"
+    p.write_text("a: &A {x: 1, y: 2}\nb:\n  <<: *A\n  x: 3\n")
+    assert config.yaml_mapping(p) == {"a": {"x": 1, "y": 2}, "b": {"x": 3, "y": 2}}
+
+
+# --- every command's flags ----------------------------------------------------------------------
+
+T, E = str(SURVEY / "theory/metrics.csv"), str(SURVEY / "empirical/metrics.csv")
+
+
+def _table(tmp_path: Path, edit: dict[str, object] | None = None, row: int = 3, text: str | None = None) -> str:
+    p = tmp_path / "m.csv"
+    if text is not None:
+        p.write_text(text)
+        return str(p)
+    import pandas as pd
+
+    t = pd.read_csv(T, comment="#")
+    for col, v in (edit or {}).items():
+        t[col] = t[col].astype(object)
+        t.loc[row, col] = v
+    t.to_csv(p, index=False)
+    return str(p)
+
+
+@pytest.mark.parametrize(
+    ("make", "flags", "needles"),
+    [
+        # the issue's examples
+        (lambda tp: str(ROOT / "config/empirical_pareto.csv"), [], ("not a metrics table (no columns",)),
+        (lambda tp: T, ["--top", "-3"], ("--top = -3", "allowed: an integer >= 1")),
+        (lambda tp: T, ["--resamples", "0"], ("--resamples = 0", "allowed: an integer >= 100")),
+        (lambda tp: _table(tp, {"M_L": "nan"}), [], ("data row 4: M_L = 'nan'", "allowed: a number in [0, 1]")),
+        # variants
+        (lambda tp: T, ["--top", "0"], ("--top = 0",)),
+        (lambda tp: T, ["--resamples", "99"], ("--resamples = 99",)),
+        (lambda tp: _table(tp, {"M_CF": 1.5}), [], ("M_CF = '1.5'",)),
+        (lambda tp: _table(tp, {"M_L": "inf"}), [], ("M_L = 'inf'",)),
+        (lambda tp: _table(tp, {"design": 2.5}), [], ("design = '2.5'", "an integer >= 0")),
+        (lambda tp: _table(tp, {"design": 0}), [], ("design 0 appears twice",)),
+        (lambda tp: _table(tp, {"generalists": "many"}), [], ("generalists = 'many'",)),
+        (lambda tp: _table(tp, text=""), [], ("not a CSV table (EmptyDataError)",)),
+        (lambda tp: _table(tp, text="\x80\x81,\xff\n"), [], ("not a metrics table",)),
+        (lambda tp: str(tp / "missing.csv"), [], ("missing.csv: no such file",)),
+    ],
+)
+def test_compare_refuses_bad_tables_and_flags(
+    make, flags: list[str], needles: tuple[str, ...], tmp_path, capsys
+) -> None:
+    _refused(["compare", make(tmp_path), E, *flags], capsys, *needles)
+
+
+def test_compare_binary_table_refused(tmp_path: Path, capsys: pytest.CaptureFixture) -> None:
+    p = tmp_path / "bin.csv"
+    p.write_bytes(bytes(range(128, 256)) * 4)
+    _refused(["compare", str(p), E], capsys, "bin.csv: not a")
+
+
+def test_compare_undefined_rho_is_true_and_json_is_strict(tmp_path: Path, capsys: pytest.CaptureFixture) -> None:
+    import pandas as pd
+
+    t = pd.read_csv(T, comment="#")
+    t["M_L"] = 0.25  # every design the same value: rho is undefined, and the text says so truly
+    p = tmp_path / "const.csv"
+    t.to_csv(p, index=False)
+    rc, out, err = _cli(["compare", str(p), E, "--resamples", "100", "--json"], capsys)
+    assert rc == 0, err
+    lines = out.splitlines()
+    assert "M_L: Spearman rho undefined (one model gives every one of the 625 designs the same value)" in lines[0]
+
+    def no_constants(c: str) -> None:
+        raise AssertionError(f"bare {c} in --json output")
+
+    rep = json.loads(lines[-1], parse_constant=no_constants)  # strict JSON: no NaN
+    assert rep["M_L"]["rho"] is None and rep["M_CF"]["rho"] is not None
+
+
+@pytest.mark.parametrize(
+    ("flags", "needle"),
+    [
+        (["--samples", "0"], "--samples = 0; allowed: an integer >= 1"),
+        (["--samples", "-5"], "--samples = -5"),
+        (["--seed", "-1"], "--seed = -1; allowed: an integer >= 0"),
+        (["--workers", "0"], "--workers = 0; allowed: an integer >= 1"),
+        (["--time-tol", "nan"], "--time-tol = nan must be a finite number > 0"),
+        (["--time-tol", "-1"], "--time-tol = -1.0"),
+        (["--time-tol", "inf"], "--time-tol = inf"),
+    ],
+)
+def test_verify_flags_range_checked_before_reading(flags: list[str], needle: str, capsys) -> None:
+    _refused(["verify", "--merged", "does/not/matter.zarr", *flags], capsys, needle)
+
+
+@pytest.mark.parametrize("which", ["nonsense", "-5", "1.5", ""])
+def test_check_bundle_resimulate_names_checked_before_reading(which: str, capsys) -> None:
+    _refused(["check-bundle", str(SURVEY), "--resimulate", which], capsys, f"--resimulate {which!r}")
+
+
+@pytest.mark.parametrize(
+    "argv",
+    [
+        ["design"],  # required flags missing
+        ["frobnicate"],
+        ["design", "--l1", "0", "--l2", "0", "0"],
+        ["design", "--l1", "0", "0", "--l2", "0", "0", "--model", "nope"],
+        ["compare", T],
+    ],
+)
+def test_argparse_refusals_are_one_line(argv: list[str], capsys: pytest.CaptureFixture) -> None:
+    _refused(argv, capsys, "--help")
+
+
+# --- the schema and its generated documentation -------------------------------------------------
+
+
+def test_schema_has_only_json_schema_keywords_and_the_generator_refuses_others(tmp_path: Path) -> None:
+    sys.path.insert(0, str(ROOT / "tools"))
+    try:
+        import config_docs
+    finally:
+        sys.path.remove(str(ROOT / "tools"))
+    assert config_docs.unknown_keywords(config.schema()) == []
+    # the issue's defect: an unquoted comma in a flow mapping makes a key and cuts the description
+    bad = yaml.safe_load("properties:\n  enabled: {type: boolean, description: Render the figures, table.}\n")
+    assert config_docs.unknown_keywords(bad) == ["enabled: 'table.'"]
+    doc = (ROOT / "config/README.md").read_text()
+    for full in (
+        "Render the figures, table and report inputs.",
+        "Runs per design, learner and protocol.",
+        "Base seed; a run's seed is (seed, design, learner, protocol, run).",
+    ):
+        assert full in doc
+
+
+@pytest.mark.parametrize("kind", ["missing", "empty", "binary", "duplicate_top", "list"])
+def test_workflow_start_check_names_a_bad_or_missing_config_yaml(
+    kind: str, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """The Snakefile's first check (before Snakemake reads config.yaml): was a WorkflowError or
+    traceback, exit 1 (the file is read by Snakemake's own loader)."""
+    monkeypatch.chdir(tmp_path)
+    if kind != "missing":
+        (tmp_path / "config.yaml").write_bytes(BAD_FILES[kind][0])
+    with pytest.raises(config.ConfigError) as e:
+        config.check_start(tmp_path, ["config.yaml"])
+    needle = "cannot read (No such file or directory)" if kind == "missing" else BAD_FILES[kind][1]
+    assert str(e.value).startswith("config.yaml: ") and needle in str(e.value), str(e.value)
+
+
+# --- the workflow: what only Snakemake shows (dry runs in one shared copy) ------------------------
+
+
+@pytest.fixture(scope="module")
+def wf(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    wd = copy_workflow(tmp_path_factory.mktemp("hostile") / "wf")
+    shutil.rmtree(wd / "results/survey")  # SMALL reads no bundle
+    (wd / "small.yaml").write_text(yaml.safe_dump(SMALL))
+    return wd
+
+
+def _start_refusal(wd: Path, *args: str, cwd: Path | None = None) -> str:
+    exe = Path(sys.executable).with_name("snakemake")
+    proc = subprocess.run(
+        [str(exe), "-n", "--cores", "1", *args],
+        cwd=cwd or wd,
+        capture_output=True,
+        text=True,
+        timeout=300,
+        env={**os.environ, "MORPHLEARN_GIT_COMMIT": "test"},
+    )
+    ours = [line for line in proc.stderr.splitlines() if line.startswith("morphlearn")]
+    assert proc.returncode == 2 and len(ours) == 1, (proc.returncode, proc.stderr[-2000:])
+    assert "Traceback" not in proc.stderr
+    assert not (wd / "results").exists() or not any((wd / "results").iterdir())
+    return ours[0]
+
+
+def test_workflow_refuses_duplicate_key_and_float_integer(wf: Path) -> None:
+    (wf / "dup.yaml").write_text("grid:\n  positions_per_axis: 3\n  weights: 5\n  weights: 7\n")
+    line = _start_refusal(wf, "--configfile", "small.yaml", "dup.yaml")
+    assert "dup.yaml: key 'weights' given twice (lines 3 and 4)" in line, line
+
+
+def test_workflow_refuses_a_wildcard_results_dir(wf: Path) -> None:
+    line = _start_refusal(wf, "--configfile", "small.yaml", "--config", "results_dir=out{x}")
+    assert line.startswith("morphlearn: config error: results_dir = 'out{x}' holds"), line
+
+
+def test_workflow_from_another_folder_says_so(wf: Path, tmp_path: Path) -> None:
+    # was: "'theory' is a required property" (config.yaml not found, skipped silently)
+    line = _start_refusal(wf, "-s", str(wf / "Snakefile"), "--configfile", str(wf / "small.yaml"), cwd=tmp_path)
+    assert f"the workflow runs from its own folder {wf.resolve()}" in line and "cd " in line, line
+
+
+def test_results_dir_holding_a_bundle_is_not_advised_to_be_deleted(wf: Path) -> None:
+    # a bundle made by another config (here: a store whose science digest is another's)
+    b = wf / "bundle"
+    (b / "theory/merged.zarr").mkdir(parents=True)
+    (b / "theory/merged.zarr/zarr.json").write_text(json.dumps({"attributes": {"science_sha256": "0" * 64}}))
+    (b / "bundle.json").write_text("{}")
+    try:
+        line = _start_refusal(wf, "--configfile", "small.yaml", "--config", "results_dir=bundle")
+    finally:
+        shutil.rmtree(b)
+    assert "holds a results bundle" in line and "render_only" in line and "delete" not in line, line
+
+
+def test_results_dir_with_a_space_and_quote_reaches_the_figure_commands_whole(wf: Path) -> None:
+    """The figure rule's shell command, as Snakemake prints it (dry run), run with the two tools
+    replaced by printf: the notebook's output folder arrives as one argument."""
+    rd = "res ults/it's"
+    (wf / "space.yaml").write_text(yaml.safe_dump({"results_dir": rd, "figures": {"enabled": True}}))
+    proc = snakemake(wf, "-n", "-p", "--cores", "1", "--configfile", "small.yaml", "space.yaml")
+    cmd = next(line for line in proc.stdout.splitlines() if "jupyter nbconvert" in line and "fig1" in line)
+    cmd = cmd.removeprefix("Shell command: ")
+    cmd = cmd.replace("papermill ", "true ", 1).replace("jupyter nbconvert", "printf '%s\\n'", 1)
+    (wf / rd / "logs/figures").mkdir(parents=True)
+    subprocess.run(["bash", "-c", cmd], cwd=wf, check=True)
+    args = (wf / rd / "logs/figures/fig1.log").read_text().splitlines()
+    assert args[args.index("--output-dir") + 1] == f"{rd}/figures", args
+    shutil.rmtree(wf / "res ults")
