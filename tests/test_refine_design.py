@@ -222,6 +222,10 @@ def test_export_of_a_partial_run_is_a_run_folder(tmp_path: Path) -> None:
     assert (a.rows_done == b.rows_done).all() and a.result.first_time.tobytes() == b.result.first_time.tobytes()
     assert json.loads((dest / "summary.json").read_text())["rows_done"] == 2
     assert rz.run(dest, job, log=_quiet) == 1  # the bundle resumes like the run folder
+    # exported in place (the run folder is the bundle): the rows stay, the README follows them
+    r = subprocess.run([sys.executable, str(tool), "export", str(dest), str(dest)], capture_output=True, text=True)
+    assert r.returncode == 0, r.stderr
+    assert rz.assemble(dest).complete and "complete" in (dest / "README.md").read_text()
 
 
 def test_mujoco_rows_equal_mujoco_evaluate_design_bit_for_bit(tmp_path: Path) -> None:

@@ -160,14 +160,17 @@ def cmd_export(a: argparse.Namespace) -> int:
     asm = rz.assemble(src, log=_log)
     s = rz.summary(asm) | {"cost": rz.cost(src), "run_key": asm.manifest["run_key"]}
     job = rz.job_from_manifest(asm.manifest)
-    if (dest / "rows").exists():
-        shutil.rmtree(dest / "rows")
-    (dest / "rows").mkdir(parents=True)
-    for i in np.flatnonzero(asm.rows_done):
-        shutil.copyfile(rz.row_path(src, int(i)), rz.row_path(dest, int(i)))
-    for name in ("manifest.json", "progress.jsonl", "runs.jsonl"):
-        if (src / name).exists():
-            shutil.copyfile(src / name, dest / name)
+    # exported in place (the run folder is the bundle): only the README and summary are written,
+    # never the rows, which removing and copying onto themselves would destroy
+    if dest.resolve() != src.resolve():
+        if (dest / "rows").exists():
+            shutil.rmtree(dest / "rows")
+        (dest / "rows").mkdir(parents=True)
+        for i in np.flatnonzero(asm.rows_done):
+            shutil.copyfile(rz.row_path(src, int(i)), rz.row_path(dest, int(i)))
+        for name in ("manifest.json", "progress.jsonl", "runs.jsonl"):
+            if (src / name).exists():
+                shutil.copyfile(src / name, dest / name)
     (dest / "summary.json").write_text(json.dumps(s, indent=1, sort_keys=True) + "\n")
     man, dm, c = asm.manifest, s["metrics_over_rows_done"], s["cost"]
     mi = s.get("mirror")
