@@ -1,4 +1,5 @@
-"""Learners over controller weights ``(w1, w2)`` in the box [-1, 1]^2, as ask/tell objects.
+"""Learners over controller weights ``(w1, w2)`` in the box [-1, 1]^2 (or any ``dim``: the
+co-optimisation stage searches weights and sensor positions together), as ask/tell objects.
 
 Each learner draws from its own ``numpy.random.Generator`` (CMA-ES included: its sampler is
 replaced by the learner's generator), so a run's numbers depend only on its seed, not on which
@@ -25,19 +26,20 @@ class Learner(Protocol):
     def rescore(self, f: float) -> None: ...
 
 
-def _uniform(rng: np.random.Generator, k: int = 1) -> np.ndarray:
-    return rng.uniform(LO, HI, size=(k, 2))
+def _uniform(rng: np.random.Generator, k: int = 1, dim: int = 2) -> np.ndarray:
+    return rng.uniform(LO, HI, size=(k, dim))
 
 
 class RandomSearch:
     """Uniform samples of the box, one per ask: one sample is a generalist with probability
     equal to the share of the weight plane that succeeds everywhere (M_L in the grid's limit)."""
 
-    def __init__(self, rng: np.random.Generator, sigma0: float) -> None:
+    def __init__(self, rng: np.random.Generator, sigma0: float, dim: int = 2) -> None:
         self.rng = rng
+        self.dim = dim
 
     def ask(self) -> np.ndarray:
-        return _uniform(self.rng)
+        return _uniform(self.rng, dim=self.dim)
 
     def tell(self, x: np.ndarray, f: np.ndarray) -> None:
         pass
@@ -54,16 +56,16 @@ class OnePlusOne:
     UP, DOWN = math.exp(1.0 / 3.0), math.exp(-1.0 / 12.0)
     SIGMA_MIN, SIGMA_MAX = 1e-3, 1.0
 
-    def __init__(self, rng: np.random.Generator, sigma0: float) -> None:
+    def __init__(self, rng: np.random.Generator, sigma0: float, dim: int = 2) -> None:
         self.rng = rng
         self.sigma = sigma0
-        self.x = _uniform(rng)[0]
+        self.x = _uniform(rng, dim=dim)[0]
         self.f = math.inf
 
     def ask(self) -> np.ndarray:
         if not math.isfinite(self.f):
             return self.x[None, :].copy()
-        return np.clip(self.x + self.sigma * self.rng.standard_normal(2), LO, HI)[None, :]
+        return np.clip(self.x + self.sigma * self.rng.standard_normal(self.x.size), LO, HI)[None, :]
 
     def tell(self, x: np.ndarray, f: np.ndarray) -> None:
         first = not math.isfinite(self.f)
@@ -79,14 +81,14 @@ class OnePlusOne:
 
 
 class CMAES:
-    """CMA-ES of the ``cma`` package (default population 6 in 2-d, box bounds), started at a
+    """CMA-ES of the ``cma`` package (default population 4 + 3 ln(dim): 6 in 2-d, box bounds), started at a
     uniform point with step ``sigma0``; restarted from its last mean with ``sigma0`` when ``cma``'s
     own termination criteria fire (a collapsed step cannot follow a changed objective)."""
 
-    def __init__(self, rng: np.random.Generator, sigma0: float) -> None:
+    def __init__(self, rng: np.random.Generator, sigma0: float, dim: int = 2) -> None:
         self.rng = rng
         self.sigma0 = sigma0
-        self._start(_uniform(rng)[0])
+        self._start(_uniform(rng, dim=dim)[0])
 
     def _start(self, x0: np.ndarray) -> None:
         opts = {
@@ -120,7 +122,7 @@ class CMAES:
 CLASSES: dict[str, type] = {"random": RandomSearch, "one_plus_one": OnePlusOne, "cmaes": CMAES}
 
 
-def make(name: str, rng: np.random.Generator, sigma0: float) -> Learner:
+def make(name: str, rng: np.random.Generator, sigma0: float, dim: int = 2) -> Learner:
     if name not in CLASSES:
         raise ValueError(f"learner {name!r} unknown; allowed: {list(NAMES)}")
-    return CLASSES[name](rng, sigma0)
+    return CLASSES[name](rng, sigma0, dim)
