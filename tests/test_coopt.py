@@ -93,9 +93,10 @@ def test_wilson_interval() -> None:
 def test_landscape_contains_the_two_weight_slice() -> None:
     """With m = 3 the two-weight slice (u = 0) is a 3 x 3 grid; its counts cannot exceed the
     four-weight space's."""
-    L = landscape(np.array(BEST), 3, TheoryParams())
-    assert L.controllers == 81 and L.generalists_2w <= L.generalists and L.at_least_one_2w <= L.at_least_one
-    assert 0.0 <= L.m_l <= 1.0 and 0.0 <= L.m_cf_2w <= 1.0
+    land = landscape(np.array(BEST), 3, TheoryParams())
+    assert land.controllers == 81 and land.generalists_2w <= land.generalists
+    assert land.at_least_one_2w <= land.at_least_one
+    assert 0.0 <= land.m_l <= 1.0 and 0.0 <= land.m_cf_2w <= 1.0
     with pytest.raises(ValueError, match="odd"):
         landscape(np.array(BEST), 4, TheoryParams())
 
@@ -114,3 +115,42 @@ def test_bad_coopt_config_is_refused(section: dict, match: str) -> None:
     cfg = config.read("config.yaml")
     with pytest.raises(config.ConfigError, match=match):
         settings.parse(cfg | {"coopt": section})
+
+
+def test_stage_end_to_end_on_a_tiny_config(tmp_path) -> None:
+    """The stage's three steps (landscape, runs, analysis) in process, on a tiny config: the
+    tables, summary and figure are written; the summary has the landscape and the (a)-(e) table."""
+    import json
+
+    from morphlearn.coopt import stage
+
+    cfg = config.read("config.yaml") | {
+        "results_dir": str(tmp_path),
+        "coopt": {
+            "enabled": True,
+            "setups": ["a", "c"],
+            "learners": ["random", "cmaes"],
+            "sigmas": [0.5],
+            "budgets": [3, 6],
+            "seeds": 2,
+            "landscape_weights": 3,
+            "bootstrap": 100,
+        },
+    }
+    s = settings.parse(cfg)
+    assert stage.variant_names(s.coopt) == ["random", "cmaes-0.5"]
+    land = [tmp_path / f"{d}.json" for d in stage.LANDSCAPE_DESIGNS]
+    for d, p in zip(stage.LANDSCAPE_DESIGNS, land, strict=True):
+        stage.run_landscape(s, d, p)
+    assert json.loads(land[0].read_text())["coords"] == [0.5, 0.5, 0.5, -0.5]
+    csvs = []
+    for st in s.coopt.setups:
+        for v in stage.variant_names(s.coopt):
+            csvs.append(tmp_path / f"{st}_{v}.csv")
+            stage.run_variant(s, st, v, csvs[-1])
+    stage.run_analysis(s, [str(p) for p in land], [str(p) for p in csvs], tmp_path / "out")
+    md = (tmp_path / "out" / "summary.md").read_text()
+    assert "| canonical | (0.5, 0.5, 0.5, -0.5) |" in md and "| learner | protocol | budget | (a) | (c) |" in md
+    runs = pd.read_csv(tmp_path / "out" / "runs.csv")
+    assert len(runs) == 2 * 2 * 2 * 3  # setups x variants x seeds x (joint at 6, sequential at 3 and 6)
+    assert (tmp_path / "out" / "coopt.png").stat().st_size > 10_000

@@ -73,23 +73,36 @@ def run_rng(s: CooptSettings, setup: int, learner: str, sigma: float, protocol: 
     return np.random.default_rng(ident)
 
 
-def run_setup(s: CooptSettings, setup: Setup, index: int, params: TheoryParams) -> pd.DataFrame:
-    """Every run of one setup, batched in one driver; one row per run (RUN_COLUMNS)."""
-    keys, runs = [], []
+def plan(s: CooptSettings) -> list[tuple[str, int]]:
+    """(protocol, budget) of the runs: joint once at the largest budget, sequential at each."""
     top = max(s.budgets)
-    for lr, sg in variants(s):
+    return [(pr, b) for pr in s.protocols for b in ((top,) if pr == "joint" else s.budgets)]
+
+
+def run_setup(
+    s: CooptSettings,
+    setup: Setup,
+    index: int,
+    params: TheoryParams,
+    only: list[tuple[str, float]] | None = None,
+    runs_of: list[tuple[str, int]] | None = None,
+) -> pd.DataFrame:
+    """Every run of one setup (or of the variants ``only`` and the (protocol, budget) pairs
+    ``runs_of``: a run does not depend on what is batched beside it, so any split of the work
+    gives the same rows), batched in one driver; one row per run (RUN_COLUMNS)."""
+    keys, runs = [], []
+    for lr, sg in only if only is not None else variants(s):
         sigma = 0.5 if math.isnan(sg) else sg
-        for pr in s.protocols:
-            for b in (top,) if pr == "joint" else s.budgets:
-                for k in range(s.seeds):
-                    rng = run_rng(s, index, lr, sg, pr, b, k)
-                    learner = algorithms.make(lr, rng, sigma, setup.dim)
-                    if pr == "joint":
-                        g = protocols.joint(learner, b)
-                    else:
-                        g = protocols.sequential(learner, b // s.cycles, s.cycles)
-                    keys.append((lr, sg, pr, b, k))
-                    runs.append((0, g))
+        for pr, b in runs_of if runs_of is not None else plan(s):
+            for k in range(s.seeds):
+                rng = run_rng(s, index, lr, sg, pr, b, k)
+                learner = algorithms.make(lr, rng, sigma, setup.dim)
+                if pr == "joint":
+                    g = protocols.joint(learner, b)
+                else:
+                    g = protocols.sequential(learner, b // s.cycles, s.cycles)
+                keys.append((lr, sg, pr, b, k))
+                runs.append((0, g))
     results = protocols.drive(SetupEvaluator(setup, params), runs)  # type: ignore[arg-type]
     rows = []
     for (lr, sg, pr, b, k), r in zip(keys, results, strict=True):
