@@ -159,6 +159,8 @@ def summarise(runs: pd.DataFrame, s: CooptSettings) -> pd.DataFrame:
             t = gb.evals_to_generalist.to_numpy(dtype=np.float64)
             hit = np.isfinite(t) & (t <= b)
             n, k = len(t), int(hit.sum())
+            if n == 0:  # not run (a partial run of the stage's jobs)
+                continue
             tc = np.where(hit, t, b)
             lo, hi = wilson(k, n)
             rm_lo, rm_hi = _boot(tc, np.mean, s.bootstrap, rng)
