@@ -154,3 +154,20 @@ def test_stage_end_to_end_on_a_tiny_config(tmp_path) -> None:
     runs = pd.read_csv(tmp_path / "out" / "runs.csv")
     assert len(runs) == 2 * 2 * 2 * 3  # setups x variants x seeds x (joint at 6, sequential at 3 and 6)
     assert (tmp_path / "out" / "coopt.png").stat().st_size > 10_000
+
+
+def test_one_plus_one_restart_draws_a_new_parent_when_its_step_collapses() -> None:
+    from morphlearn.learners import algorithms
+
+    plain = algorithms.make("one_plus_one", np.random.default_rng(1), 0.5, 3)
+    lr = algorithms.make("one_plus_one_restart", np.random.default_rng(1), 0.5, 3)
+    for a in (plain, lr):
+        a.tell(a.ask(), np.array([1.0]))  # the parent's own value
+    x0 = lr.x.copy()
+    restarted = False
+    for _ in range(200):
+        for a in (plain, lr):
+            a.tell(a.ask(), np.array([2.0]))  # every offspring worse
+        restarted = restarted or not np.array_equal(lr.x, x0)
+    assert plain.sigma == plain.SIGMA_MIN and np.array_equal(plain.x.shape, (3,))
+    assert restarted and lr.x.shape == (3,) and lr.sigma > lr.SIGMA_MIN

@@ -14,7 +14,13 @@ from morphlearn.coopt.setups import paper_setups
 from morphlearn.grid import positions
 from morphlearn.settings import CooptSettings
 
-LEARNER_LABEL = {"random": "random", "one_plus_one": "(1+1)-ES", "cmaes": "CMA-ES"}
+LEARNER_LABEL = {
+    "random": "random",
+    "one_plus_one": "(1+1)-ES",
+    "cmaes": "CMA-ES",
+    "one_plus_one_restart": "(1+1)-ES restart",
+    "cmaes_restart": "CMA-ES restart",
+}
 
 
 def learner_label(learner: str, sigma: float) -> str:
@@ -26,7 +32,7 @@ def bodies(runs: pd.DataFrame) -> pd.DataFrame:
     largest budget and the sequential runs at every budget), with whether the run reached a
     generalist."""
     co = runs[runs.setup.isin(["c", "d"])].copy()
-    x = np.array([[float(v) for v in str(s).split()] for s in co.x])
+    x = np.array([[float(v) for v in str(s).split()[:4]] for s in co.x])  # positions come first
     for i, c in enumerate(("l1x", "l1y", "l2x", "l2y")):
         co[c] = 0.5 * x[:, i]
     return co.drop(columns=["x"])
@@ -68,7 +74,7 @@ def table_markdown(summary: pd.DataFrame, s: CooptSettings, sigma: float) -> str
 
 
 def sort_summary(summary: pd.DataFrame) -> pd.DataFrame:
-    order = {"random": 0, "one_plus_one": 1, "cmaes": 2}
+    order = {"random": 0, "one_plus_one": 1, "cmaes": 2, "one_plus_one_restart": 3, "cmaes_restart": 4}
     k = summary.assign(_o=summary.learner.map(order), _s=summary.sigma0.fillna(-1.0))
     return k.sort_values(["_o", "_s", "protocol", "budget", "setup"], kind="stable").drop(columns=["_o", "_s"])
 

@@ -17,7 +17,7 @@ import numpy as np
 
 LO, HI = -1.0, 1.0
 #: The learners, in a fixed order (their index enters the run seeds).
-NAMES = ("random", "one_plus_one", "cmaes")
+NAMES = ("random", "one_plus_one", "cmaes", "one_plus_one_restart", "cmaes_restart")
 
 
 class Learner(Protocol):
@@ -59,6 +59,7 @@ class OnePlusOne:
     def __init__(self, rng: np.random.Generator, sigma0: float, dim: int = 2) -> None:
         self.rng = rng
         self.sigma = sigma0
+        self.sigma0 = sigma0
         self.x = _uniform(rng, dim=dim)[0]
         self.f = math.inf
 
@@ -75,6 +76,16 @@ class OnePlusOne:
             self.x, self.f = np.asarray(x[0], dtype=np.float64).copy(), float(f[0])
         else:
             self.sigma = max(self.sigma * self.DOWN, self.SIGMA_MIN)
+            if self.RESTART and self.sigma <= self.SIGMA_MIN:
+                self._restart()
+
+    RESTART = False
+
+    def _restart(self) -> None:
+        """A new uniform parent with the initial step (the variant ``one_plus_one_restart``)."""
+        self.x = _uniform(self.rng, dim=self.x.size)[0]
+        self.f = math.inf
+        self.sigma = self.sigma0
 
     def rescore(self, f: float) -> None:
         self.f = float(f)
@@ -105,9 +116,12 @@ class CMAES:
         self.es = cma.CMAEvolutionStrategy(np.asarray(x0, dtype=np.float64).tolist(), self.sigma0, opts)
         self._pending: list[np.ndarray] = []
 
+    RESTART = False
+
     def ask(self) -> np.ndarray:
         if self.es.stop():
-            self._start(np.clip(self.es.mean, LO, HI))
+            # restart from the last mean; the variant cmaes_restart from a new uniform point
+            self._start(_uniform(self.rng, dim=self.es.N)[0] if self.RESTART else np.clip(self.es.mean, LO, HI))
         self._pending = self.es.ask()
         return np.array(self._pending, dtype=np.float64)
 
@@ -119,7 +133,26 @@ class CMAES:
         pass  # CMA-ES keeps no fitness of its mean: it follows the new objective from its samples
 
 
-CLASSES: dict[str, type] = {"random": RandomSearch, "one_plus_one": OnePlusOne, "cmaes": CMAES}
+class OnePlusOneRestart(OnePlusOne):
+    """The (1+1)-ES restarted at a new uniform point with the initial step when its step has
+    shrunk to ``SIGMA_MIN`` (stagnation: ~75 failures in a row from step 0.5)."""
+
+    RESTART = True
+
+
+class CMAESRestart(CMAES):
+    """CMA-ES restarted at a new uniform point (not its last mean) when ``cma`` stops."""
+
+    RESTART = True
+
+
+CLASSES: dict[str, type] = {
+    "random": RandomSearch,
+    "one_plus_one": OnePlusOne,
+    "cmaes": CMAES,
+    "one_plus_one_restart": OnePlusOneRestart,
+    "cmaes_restart": CMAESRestart,
+}
 
 
 def make(name: str, rng: np.random.Generator, sigma0: float, dim: int = 2) -> Learner:
