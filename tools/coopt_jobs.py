@@ -7,6 +7,7 @@ batching does not change them), so these jobs give the rows the stage's ``coopt_
 
     nohup nice -n 10 .venv/bin/python tools/coopt_jobs.py run OUT WORKER NWORKERS &   # per worker
     .venv/bin/python tools/coopt_jobs.py assemble OUT LANDSCAPE_JSON BUNDLE_DIR
+    .venv/bin/python tools/coopt_jobs.py manifest BUNDLE_DIR "COMMAND"
 """
 
 from __future__ import annotations
@@ -107,10 +108,29 @@ def assemble(out: Path, landscape_json: Path, bundle: Path) -> None:
     stage.run_analysis(cfg, lands, csvs, bundle)
 
 
+def manifest(bundle: Path, command: str) -> None:
+    """bundle.json: the SHA-256 of every file (``morphlearn check-bundle`` reads it), the command,
+    commit and library versions."""
+    from morphlearn import provenance
+
+    files = sorted(p for p in bundle.rglob("*") if p.is_file() and p.name != "bundle.json")
+    rec = {
+        "files": {str(p.relative_to(bundle)): provenance.sha256_file(p) for p in files},
+        "made_by": {
+            "command": command,
+            "git_commit": provenance.git_commit(),
+            "libraries": provenance.library_versions(),
+        },
+    }
+    (bundle / "bundle.json").write_text(json.dumps(rec, sort_keys=True, indent=1) + "\n")
+
+
 if __name__ == "__main__":
     if sys.argv[1] == "run":
         run(Path(sys.argv[2]), int(sys.argv[3]), int(sys.argv[4]))
     elif sys.argv[1] == "assemble":
         assemble(Path(sys.argv[2]), Path(sys.argv[3]), Path(sys.argv[4]))
+    elif sys.argv[1] == "manifest":
+        manifest(Path(sys.argv[2]), sys.argv[3])
     else:
         raise SystemExit(f"usage: {__doc__}")
