@@ -53,6 +53,10 @@ elif not RENDER_ONLY:
 
         include: "workflow/rules/learners.smk"
 
+    if S.coopt.enabled:
+
+        include: "workflow/rules/coopt.smk"
+
     if S.bundle_dir:
 
         include: "workflow/rules/bundle.smk"

@@ -50,7 +50,10 @@ SMOKE_STEPS = {
         ["results/empirical/shards/shard_0.nc", "results/morphology/pareto.csv"],
     ),
     "analysis": (["merge", "metrics", "summary"], ["results/summary.md"]),
-    "learners": (["learners_shard", "learners_analysis"], ["results/learners/summary.md"]),
+    "learners": (
+        ["learners_shard", "learners_analysis", "coopt_landscape", "coopt_runs", "coopt_analysis"],
+        ["results/learners/summary.md", "results/coopt/summary.md"],
+    ),
     # Every notebook, the reproduction table and the results bundle (which holds all of them).
     "figures": (
         [*(f"figure_fig{i}" for i in range(1, 8)), "figure_learners", "reproduction", "bundle"],
@@ -118,6 +121,9 @@ def test_each_env_runs_its_rules(tmp_path: Path) -> None:
     (wd / "tiny_learners.yaml").write_text(  # the learner stage, seconds (tests/test_learners_workflow.py)
         "learners: {enabled: true, seeds: 2, budget: 4, cycles: 1, per_phase: 4, max_designs: 3, shards: 1, "
         "threads: 1, bootstrap: 100}\n"
+        # the coopt stage (docs/coopt.md), seconds: one setup, one learner, one seed, a 3^4 landscape
+        "coopt: {enabled: true, setups: [a], learners: [random], budgets: [3], seeds: 1, landscape_weights: 3, "
+        "bootstrap: 100, best_metrics: results/survey/theory/metrics.csv}\n"
     )
     (wd / "s.yaml").write_text("base: {}\nshort:\n  theory:\n    horizon: 200.0\n")
     pythons = {env: build_env(env, tmp_path / "envs" / env) for env in SMOKE_STEPS}

@@ -98,6 +98,28 @@ class LearnerSettings:
 
 
 @dataclass(frozen=True)
+class CooptSettings:
+    """``coopt``: co-optimising the body against a four-synapse controller (issue 27; schema)."""
+
+    enabled: bool
+    setups: tuple[str, ...]
+    learners: tuple[str, ...]
+    sigmas: tuple[float, ...]
+    protocols: tuple[str, ...]
+    budgets: tuple[int, ...]
+    cycles: int
+    seeds: int
+    seed: int
+    landscape_weights: int
+    best_metrics: str
+    bootstrap: int
+
+    def science(self) -> dict[str, Any]:
+        """What determines the stage's numbers (not the bootstrap of the summary)."""
+        return {k: list(v) if isinstance(v, tuple) else v for k, v in asdict(self).items() if k != "bootstrap"}
+
+
+@dataclass(frozen=True)
 class Shared:
     """The typed sections a model's parse may read besides its own (Model.parse)."""
 
@@ -119,6 +141,7 @@ class Settings:
     analysis: AnalysisSettings
     figures: FigureSettings
     learners: LearnerSettings
+    coopt: CooptSettings
     #: model name -> that model's parsed section (the model plug-in's own settings type)
     models: Mapping[str, Any]
     bundle_dir: str | None
@@ -170,6 +193,21 @@ def _section(cls: type, sec: Mapping[str, Any]) -> Any:
     return cls(**{k: tuple(sec[k]) if isinstance(sec[k], list) else sec[k] for k in cls.__dataclass_fields__})
 
 
+def _check_coopt(c: CooptSettings) -> None:
+    """Cross-checks of the ``coopt`` section the schema cannot state."""
+    bad = [b for b in c.budgets if b % c.cycles]
+    if bad:
+        raise cfgmod.ConfigError(
+            f"coopt.budgets = {list(c.budgets)}: {bad[0]} is not a multiple of coopt.cycles = {c.cycles}; "
+            "allowed: budgets divisible by cycles (the sequential protocol splits a budget into cycles x 4 phases)"
+        )
+    if c.landscape_weights % 2 == 0:
+        raise cfgmod.ConfigError(
+            f"coopt.landscape_weights = {c.landscape_weights} is even; allowed: odd numbers >= 3 "
+            "(so that the uncrossed weights' zero, the two-weight controllers, is on the grid)"
+        )
+
+
 def parse(cfg: Mapping[str, Any]) -> Settings:
     """Validate ``cfg`` (defaults filled, cross-checks) and parse it into :class:`Settings`.
     Raises :class:`morphlearn.config.ConfigError` with a one-line message."""
@@ -188,6 +226,8 @@ def parse(cfg: Mapping[str, Any]) -> Settings:
             raise cfgmod.ConfigError(
                 f"learners.shards = {learners.shards} exceeds the {n_run} designs the learners run; allowed: 1..{n_run}"
             )
+    coopt = _section(CooptSettings, v["coopt"])
+    _check_coopt(coopt)
     return Settings(
         source=MappingProxyType(v),
         results_dir=v["results_dir"],
@@ -197,6 +237,7 @@ def parse(cfg: Mapping[str, Any]) -> Settings:
         analysis=_section(AnalysisSettings, v["analysis"]),
         figures=figures,
         learners=learners,
+        coopt=coopt,
         # each model parses its own section (schema defaults filled: {} when absent)
         models=MappingProxyType(
             {name: m.parse(v.get(name, {}), Shared(grid, sweep, figures)) for name, m in models.MODELS.items()}

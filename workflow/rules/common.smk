@@ -9,6 +9,7 @@ import yaml
 from morphlearn import config as cfgmod
 from morphlearn import models, results_check, rules, settings
 from morphlearn.learners import experiment as learner_experiment
+from morphlearn.coopt import stage as coopt_stage
 from morphlearn.figures import options as figure_options
 from morphlearn.figures import registry as figure_registry
 
@@ -95,6 +96,7 @@ ALL_TARGETS = FIGURE_TARGETS + (
         *(f"{R}/{m}/metrics.csv" for m in MODELS),
         f"{R}/summary.md",
         *([f"{R}/learners/summary.md"] if S.learners.enabled else []),
+        *([f"{R}/coopt/summary.md"] if S.coopt.enabled else []),
     ]
 )
 

@@ -1,4 +1,5 @@
-"""Learners over controller weights ``(w1, w2)`` in the box [-1, 1]^2, as ask/tell objects.
+"""Learners over controller weights ``(w1, w2)`` in the box [-1, 1]^2 (or any ``dim``: the
+co-optimisation stage searches weights and sensor positions together), as ask/tell objects.
 
 Each learner draws from its own ``numpy.random.Generator`` (CMA-ES included: its sampler is
 replaced by the learner's generator), so a run's numbers depend only on its seed, not on which
@@ -16,7 +17,7 @@ import numpy as np
 
 LO, HI = -1.0, 1.0
 #: The learners, in a fixed order (their index enters the run seeds).
-NAMES = ("random", "one_plus_one", "cmaes")
+NAMES = ("random", "one_plus_one", "cmaes", "one_plus_one_restart", "cmaes_restart")
 
 
 class Learner(Protocol):
@@ -25,19 +26,20 @@ class Learner(Protocol):
     def rescore(self, f: float) -> None: ...
 
 
-def _uniform(rng: np.random.Generator, k: int = 1) -> np.ndarray:
-    return rng.uniform(LO, HI, size=(k, 2))
+def _uniform(rng: np.random.Generator, k: int = 1, dim: int = 2) -> np.ndarray:
+    return rng.uniform(LO, HI, size=(k, dim))
 
 
 class RandomSearch:
     """Uniform samples of the box, one per ask: one sample is a generalist with probability
     equal to the share of the weight plane that succeeds everywhere (M_L in the grid's limit)."""
 
-    def __init__(self, rng: np.random.Generator, sigma0: float) -> None:
+    def __init__(self, rng: np.random.Generator, sigma0: float, dim: int = 2) -> None:
         self.rng = rng
+        self.dim = dim
 
     def ask(self) -> np.ndarray:
-        return _uniform(self.rng)
+        return _uniform(self.rng, dim=self.dim)
 
     def tell(self, x: np.ndarray, f: np.ndarray) -> None:
         pass
@@ -54,16 +56,17 @@ class OnePlusOne:
     UP, DOWN = math.exp(1.0 / 3.0), math.exp(-1.0 / 12.0)
     SIGMA_MIN, SIGMA_MAX = 1e-3, 1.0
 
-    def __init__(self, rng: np.random.Generator, sigma0: float) -> None:
+    def __init__(self, rng: np.random.Generator, sigma0: float, dim: int = 2) -> None:
         self.rng = rng
         self.sigma = sigma0
-        self.x = _uniform(rng)[0]
+        self.sigma0 = sigma0
+        self.x = _uniform(rng, dim=dim)[0]
         self.f = math.inf
 
     def ask(self) -> np.ndarray:
         if not math.isfinite(self.f):
             return self.x[None, :].copy()
-        return np.clip(self.x + self.sigma * self.rng.standard_normal(2), LO, HI)[None, :]
+        return np.clip(self.x + self.sigma * self.rng.standard_normal(self.x.size), LO, HI)[None, :]
 
     def tell(self, x: np.ndarray, f: np.ndarray) -> None:
         first = not math.isfinite(self.f)
@@ -73,20 +76,30 @@ class OnePlusOne:
             self.x, self.f = np.asarray(x[0], dtype=np.float64).copy(), float(f[0])
         else:
             self.sigma = max(self.sigma * self.DOWN, self.SIGMA_MIN)
+            if self.RESTART and self.sigma <= self.SIGMA_MIN:
+                self._restart()
+
+    RESTART = False
+
+    def _restart(self) -> None:
+        """A new uniform parent with the initial step (the variant ``one_plus_one_restart``)."""
+        self.x = _uniform(self.rng, dim=self.x.size)[0]
+        self.f = math.inf
+        self.sigma = self.sigma0
 
     def rescore(self, f: float) -> None:
         self.f = float(f)
 
 
 class CMAES:
-    """CMA-ES of the ``cma`` package (default population 6 in 2-d, box bounds), started at a
+    """CMA-ES of the ``cma`` package (default population 4 + 3 ln(dim): 6 in 2-d, box bounds), started at a
     uniform point with step ``sigma0``; restarted from its last mean with ``sigma0`` when ``cma``'s
     own termination criteria fire (a collapsed step cannot follow a changed objective)."""
 
-    def __init__(self, rng: np.random.Generator, sigma0: float) -> None:
+    def __init__(self, rng: np.random.Generator, sigma0: float, dim: int = 2) -> None:
         self.rng = rng
         self.sigma0 = sigma0
-        self._start(_uniform(rng)[0])
+        self._start(_uniform(rng, dim=dim)[0])
 
     def _start(self, x0: np.ndarray) -> None:
         opts = {
@@ -103,9 +116,12 @@ class CMAES:
         self.es = cma.CMAEvolutionStrategy(np.asarray(x0, dtype=np.float64).tolist(), self.sigma0, opts)
         self._pending: list[np.ndarray] = []
 
+    RESTART = False
+
     def ask(self) -> np.ndarray:
         if self.es.stop():
-            self._start(np.clip(self.es.mean, LO, HI))
+            # restart from the last mean; the variant cmaes_restart from a new uniform point
+            self._start(_uniform(self.rng, dim=self.es.N)[0] if self.RESTART else np.clip(self.es.mean, LO, HI))
         self._pending = self.es.ask()
         return np.array(self._pending, dtype=np.float64)
 
@@ -117,10 +133,29 @@ class CMAES:
         pass  # CMA-ES keeps no fitness of its mean: it follows the new objective from its samples
 
 
-CLASSES: dict[str, type] = {"random": RandomSearch, "one_plus_one": OnePlusOne, "cmaes": CMAES}
+class OnePlusOneRestart(OnePlusOne):
+    """The (1+1)-ES restarted at a new uniform point with the initial step when its step has
+    shrunk to ``SIGMA_MIN`` (stagnation: ~75 failures in a row from step 0.5)."""
+
+    RESTART = True
 
 
-def make(name: str, rng: np.random.Generator, sigma0: float) -> Learner:
+class CMAESRestart(CMAES):
+    """CMA-ES restarted at a new uniform point (not its last mean) when ``cma`` stops."""
+
+    RESTART = True
+
+
+CLASSES: dict[str, type] = {
+    "random": RandomSearch,
+    "one_plus_one": OnePlusOne,
+    "cmaes": CMAES,
+    "one_plus_one_restart": OnePlusOneRestart,
+    "cmaes_restart": CMAESRestart,
+}
+
+
+def make(name: str, rng: np.random.Generator, sigma0: float, dim: int = 2) -> Learner:
     if name not in CLASSES:
         raise ValueError(f"learner {name!r} unknown; allowed: {list(NAMES)}")
-    return CLASSES[name](rng, sigma0)
+    return CLASSES[name](rng, sigma0, dim)

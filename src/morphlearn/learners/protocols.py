@@ -42,7 +42,9 @@ Run = Generator[Request, Reply, "RunResult"]
 @dataclass(frozen=True)
 class RunResult:
     """One learner run. ``evals_to_generalist`` is NaN when none was reached; the forgetting
-    counts are 0 in the joint protocol."""
+    counts are 0 in the joint protocol. ``incumbent``: the final incumbent's search point (joint:
+    the best evaluated by the joint loss; sequential: the last phase's), for where co-optimised
+    bodies end up."""
 
     reached: bool
     evals_to_generalist: float
@@ -50,11 +52,13 @@ class RunResult:
     forget_events: int
     forget_opportunities: int
     evaluations: int
+    incumbent: tuple[float, ...] = ()
 
 
 def joint(learner: algorithms.Learner, budget: int) -> Run:
     evals = 0
     first = math.nan
+    best_f, best_x = math.inf, None
     while evals < budget:
         x = learner.ask()[: budget - evals]
         n = len(x)
@@ -65,9 +69,12 @@ def joint(learner: algorithms.Learner, budget: int) -> Run:
         if math.isnan(first) and gen.any():
             first = float(evals + 1 + int(np.argmax(gen)))
         evals += n
+        i = int(np.argmin(f))
+        if f[i] < best_f:
+            best_f, best_x = float(f[i]), x[i]
         learner.tell(x, f)
     reached = not math.isnan(first)
-    return RunResult(reached, first, reached, 0, 0, evals)
+    return RunResult(reached, first, reached, 0, 0, evals, _point(best_x))
 
 
 def sequential(learner: algorithms.Learner, per_phase: int, cycles: int, order: Iterable[int] = range(N_ENV)) -> Run:
@@ -103,7 +110,11 @@ def sequential(learner: algorithms.Learner, per_phase: int, cycles: int, order: 
             first = float(evals)
         prev = ok
     reached = not math.isnan(first)
-    return RunResult(reached, first, bool(prev is not None and prev.all()), events, opportunities, evals)
+    return RunResult(reached, first, bool(prev is not None and prev.all()), events, opportunities, evals, _point(inc_x))
+
+
+def _point(x: np.ndarray | None) -> tuple[float, ...]:
+    return () if x is None else tuple(float(v) for v in x)
 
 
 def drive(evaluator: Evaluator, runs: list[tuple[int, Run]]) -> list[RunResult]:

@@ -9,6 +9,8 @@ from morphlearn.theory import model
 from morphlearn.theory.arrays import sweep_arrays
 
 _trajectory = model.build(numba.njit(cache=True, inline="never"))
+#: The four-synapse controller, the same integrator source (``model.build(..., synapses=4)``).
+_trajectory4 = model.build(numba.njit(cache=True, inline="never"), synapses=4)
 
 # Trajectory costs differ by 1000x; small dynamic chunks keep both cores busy to the end.
 _CHUNK = 16
@@ -35,6 +37,8 @@ def _sweep(designs, w, starts, radius, horizon, method, rtol, atol, dt, max_step
             designs[di, 3],
             w[i],
             w[j],
+            0.0,
+            0.0,
             radius,
             horizon,
             method,
@@ -98,6 +102,8 @@ def _points(designs, starts, di, ei, w1, w2, radius, horizon, method, rtol, atol
             designs[d, 3],
             w1[k],
             w2[k],
+            0.0,
+            0.0,
             radius,
             horizon,
             method,
@@ -152,6 +158,83 @@ def points(
                 ei,
                 a,
                 b,
+                float(radius),
+                float(horizon),
+                int(method),
+                float(rtol),
+                float(atol),
+                float(dt),
+                int(max_steps),
+                out_t,
+                out_d,
+                out_s,
+            )
+    return out_t, out_d, out_s
+
+
+@numba.njit(parallel=True, cache=True)
+def _points4(coords, starts, ei, w, radius, horizon, method, rtol, atol, dt, max_steps, out_t, out_d, out_s):
+    for k in numba.prange(ei.shape[0]):
+        e = ei[k]
+        ft, dm, st, _ = _trajectory4(
+            starts[e, 0],
+            starts[e, 1],
+            coords[k, 0],
+            coords[k, 1],
+            coords[k, 2],
+            coords[k, 3],
+            w[k, 0],
+            w[k, 1],
+            w[k, 2],
+            w[k, 3],
+            radius,
+            horizon,
+            method,
+            rtol,
+            atol,
+            dt,
+            max_steps,
+        )
+        out_t[k] = ft
+        out_d[k] = dm
+        out_s[k] = st
+
+
+def points4(
+    coords: np.ndarray,
+    starts: np.ndarray,
+    env_idx: np.ndarray,
+    w: np.ndarray,
+    *,
+    radius: float,
+    horizon: float,
+    method: int,
+    rtol: float,
+    atol: float,
+    dt: float,
+    max_steps: int,
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Four-synapse trajectories ``k``: design coordinates ``coords[k] = (l1x, l1y, l2x, l2y)``
+    (any point of the body square, so a co-optimised body needs no grid), environment
+    ``env_idx[k]``, weights ``w[k] = (w1, w2, u1, u2)`` (crossed, then uncrossed). With ``u1 = u2 =
+    0`` this equals :func:`points` bit for bit (tested). Returns (first_time, min_dist, status)."""
+    coords = np.ascontiguousarray(coords, dtype=np.float64)
+    starts = np.ascontiguousarray(starts, dtype=np.float64)
+    ei = np.ascontiguousarray(env_idx, dtype=np.int64)
+    w = np.ascontiguousarray(w, dtype=np.float64)
+    n = ei.shape[0]
+    if ei.ndim != 1 or coords.shape != (n, 4) or w.shape != (n, 4):
+        raise ValueError(
+            f"points4: env_idx must be 1-d (n,), coords and w (n, 4); got {ei.shape}, {coords.shape}, {w.shape}"
+        )
+    out_t, out_d, out_s = np.empty(n), np.empty(n), np.empty(n, dtype=np.int8)
+    if n:
+        with numba.parallel_chunksize(_CHUNK):
+            _points4(
+                coords,
+                starts,
+                ei,
+                w,
                 float(radius),
                 float(horizon),
                 int(method),

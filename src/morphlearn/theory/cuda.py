@@ -67,6 +67,8 @@ def _kernel() -> Any:
                 designs[di, 3],
                 w[i],
                 w[j],
+                0.0,  # uncrossed weights: the two-synapse build ignores them
+                0.0,
                 radius,
                 horizon,
                 method,

@@ -58,14 +58,35 @@ E1, E3, E4, E5, E6, E7 = (
 )
 
 
-def rhs(x, y, c, s, l1x, l1y, l2x, l2y, w1, w2):
-    """Time derivative of (x, y, c, s) with the light at the origin."""
+def rhs(x, y, c, s, l1x, l1y, l2x, l2y, w1, w2, u1, u2):
+    """Time derivative of (x, y, c, s) with the light at the origin: the paper's two crossed
+    synapses (sensor 1 -> right wheel ``w1``, sensor 2 -> left wheel ``w2``); ``u1, u2`` are
+    ignored (the two-weight model; its arithmetic is unchanged by the four-weight one)."""
     p1x = x + c * l1x - s * l1y
     p1y = y + s * l1x + c * l1y
     p2x = x + c * l2x - s * l2y
     p2y = y + s * l2x + c * l2y
     a1 = w1 / (p1x * p1x + p1y * p1y)
     a2 = w2 / (p2x * p2x + p2y * p2y)
+    om = a1 - a2
+    v = 0.5 * (a1 + a2)
+    return v * c, v * s, -s * om, c * om
+
+
+def rhs4(x, y, c, s, l1x, l1y, l2x, l2y, w1, w2, u1, u2):
+    """The four-synapse controller: each sensor drives both wheels, the crossed weights ``w1``
+    (sensor 1 -> right), ``w2`` (sensor 2 -> left) and the uncrossed ``u1`` (sensor 1 -> left),
+    ``u2`` (sensor 2 -> right). The crossed terms are computed exactly as in :func:`rhs` and the
+    uncrossed ones added: with ``u1 = u2 = 0`` each sum adds ``+0.0``, which leaves every finite
+    nonzero value bit-identical (tested against :func:`rhs`)."""
+    p1x = x + c * l1x - s * l1y
+    p1y = y + s * l1x + c * l1y
+    p2x = x + c * l2x - s * l2y
+    p2y = y + s * l2x + c * l2y
+    d1 = p1x * p1x + p1y * p1y
+    d2 = p2x * p2x + p2y * p2y
+    a1 = w1 / d1 + u2 / d2  # right wheel
+    a2 = w2 / d2 + u1 / d1  # left wheel
     om = a1 - a2
     v = 0.5 * (a1 + a2)
     return v * c, v * s, -s * om, c * om
@@ -162,33 +183,33 @@ def _normalise(y):
     return y[0], y[1], y[2] / n, y[3] / n
 
 
-def _rk4_step(y, h, l1x, l1y, l2x, l2y, w1, w2):
+def _rk4_step(y, h, l1x, l1y, l2x, l2y, w1, w2, u1, u2):
     """One classical RK4 step (the fixed-step method)."""
-    k1 = rhs(y[0], y[1], y[2], y[3], l1x, l1y, l2x, l2y, w1, w2)
+    k1 = rhs(y[0], y[1], y[2], y[3], l1x, l1y, l2x, l2y, w1, w2, u1, u2)
     z = _lin1(y, h, 0.5, k1)
-    k2 = rhs(z[0], z[1], z[2], z[3], l1x, l1y, l2x, l2y, w1, w2)
+    k2 = rhs(z[0], z[1], z[2], z[3], l1x, l1y, l2x, l2y, w1, w2, u1, u2)
     z = _lin1(y, h, 0.5, k2)
-    k3 = rhs(z[0], z[1], z[2], z[3], l1x, l1y, l2x, l2y, w1, w2)
+    k3 = rhs(z[0], z[1], z[2], z[3], l1x, l1y, l2x, l2y, w1, w2, u1, u2)
     z = _lin1(y, h, 1.0, k3)
-    k4 = rhs(z[0], z[1], z[2], z[3], l1x, l1y, l2x, l2y, w1, w2)
+    k4 = rhs(z[0], z[1], z[2], z[3], l1x, l1y, l2x, l2y, w1, w2, u1, u2)
     return _lin4(y, h, 1.0 / 6.0, k1, 1.0 / 3.0, k2, 1.0 / 3.0, k3, 1.0 / 6.0, k4)
 
 
-def _dp5_step(y, h, k1, l1x, l1y, l2x, l2y, w1, w2):
+def _dp5_step(y, h, k1, l1x, l1y, l2x, l2y, w1, w2, u1, u2):
     """One Dormand-Prince 5(4) step from the tableau above: ``(y_new, k7, error estimate)``;
     ``k7`` is the next step's ``k1`` (FSAL)."""
     z = _lin1(y, h, A21, k1)
-    k2 = rhs(z[0], z[1], z[2], z[3], l1x, l1y, l2x, l2y, w1, w2)
+    k2 = rhs(z[0], z[1], z[2], z[3], l1x, l1y, l2x, l2y, w1, w2, u1, u2)
     z = _lin2(y, h, A31, k1, A32, k2)
-    k3 = rhs(z[0], z[1], z[2], z[3], l1x, l1y, l2x, l2y, w1, w2)
+    k3 = rhs(z[0], z[1], z[2], z[3], l1x, l1y, l2x, l2y, w1, w2, u1, u2)
     z = _lin3(y, h, A41, k1, A42, k2, A43, k3)
-    k4 = rhs(z[0], z[1], z[2], z[3], l1x, l1y, l2x, l2y, w1, w2)
+    k4 = rhs(z[0], z[1], z[2], z[3], l1x, l1y, l2x, l2y, w1, w2, u1, u2)
     z = _lin4(y, h, A51, k1, A52, k2, A53, k3, A54, k4)
-    k5 = rhs(z[0], z[1], z[2], z[3], l1x, l1y, l2x, l2y, w1, w2)
+    k5 = rhs(z[0], z[1], z[2], z[3], l1x, l1y, l2x, l2y, w1, w2, u1, u2)
     z = _lin5(y, h, A61, k1, A62, k2, A63, k3, A64, k4, A65, k5)
-    k6 = rhs(z[0], z[1], z[2], z[3], l1x, l1y, l2x, l2y, w1, w2)
+    k6 = rhs(z[0], z[1], z[2], z[3], l1x, l1y, l2x, l2y, w1, w2, u1, u2)
     yn = _lin5(y, h, B1, k1, B3, k3, B4, k4, B5, k5, B6, k6)
-    k7 = rhs(yn[0], yn[1], yn[2], yn[3], l1x, l1y, l2x, l2y, w1, w2)
+    k7 = rhs(yn[0], yn[1], yn[2], yn[3], l1x, l1y, l2x, l2y, w1, w2, u1, u2)
     e = (
         h * (E1 * k1[0] + E3 * k3[0] + E4 * k4[0] + E5 * k5[0] + E6 * k6[0] + E7 * k7[0]),
         h * (E1 * k1[1] + E3 * k3[1] + E4 * k4[1] + E5 * k5[1] + E6 * k6[1] + E7 * k7[1]),
@@ -198,14 +219,14 @@ def _dp5_step(y, h, k1, l1x, l1y, l2x, l2y, w1, w2):
     return yn, k7, e
 
 
-def _rk4_trajectory(y, dmin, l1x, l1y, l2x, l2y, w1, w2, radius, horizon, dt, max_steps):
+def _rk4_trajectory(y, dmin, l1x, l1y, l2x, l2y, w1, w2, u1, u2, radius, horizon, dt, max_steps):
     t = 0.0
     steps = 0
     while t < horizon:
         if steps >= max_steps:
             return math.nan, dmin, STATUS_STEP_CAP, steps
         h = min(dt, horizon - t)
-        yn = _rk4_step(y, h, l1x, l1y, l2x, l2y, w1, w2)
+        yn = _rk4_step(y, h, l1x, l1y, l2x, l2y, w1, w2, u1, u2)
         steps += 1
         if not _finite(yn):
             return math.nan, dmin, STATUS_NONFINITE, steps
@@ -218,11 +239,11 @@ def _rk4_trajectory(y, dmin, l1x, l1y, l2x, l2y, w1, w2, radius, horizon, dt, ma
     return math.nan, dmin, STATUS_OK, steps
 
 
-def _dp5_trajectory(y, dmin, l1x, l1y, l2x, l2y, w1, w2, radius, horizon, rtol, atol, max_steps):
+def _dp5_trajectory(y, dmin, l1x, l1y, l2x, l2y, w1, w2, u1, u2, radius, horizon, rtol, atol, max_steps):
     t = 0.0
     steps = 0
     h = H_FIRST
-    k1 = rhs(y[0], y[1], y[2], y[3], l1x, l1y, l2x, l2y, w1, w2)
+    k1 = rhs(y[0], y[1], y[2], y[3], l1x, l1y, l2x, l2y, w1, w2, u1, u2)
     while t < horizon:
         if steps >= max_steps:
             return math.nan, dmin, STATUS_STEP_CAP, steps
@@ -231,7 +252,7 @@ def _dp5_trajectory(y, dmin, l1x, l1y, l2x, l2y, w1, w2, radius, horizon, rtol, 
         last = h >= horizon - t
         if last:
             h = horizon - t
-        yn, k7, e = _dp5_step(y, h, k1, l1x, l1y, l2x, l2y, w1, w2)
+        yn, k7, e = _dp5_step(y, h, k1, l1x, l1y, l2x, l2y, w1, w2, u1, u2)
         steps += 1
         err = _err_norm(y, yn, e, rtol, atol)
         if not (err <= 1.0):  # also catches NaN: shrink and retry
@@ -255,8 +276,9 @@ def _dp5_trajectory(y, dmin, l1x, l1y, l2x, l2y, w1, w2, radius, horizon, rtol, 
     return math.nan, dmin, STATUS_OK, steps
 
 
-def trajectory(x0, y0, l1x, l1y, l2x, l2y, w1, w2, radius, horizon, method, rtol, atol, dt, max_steps):
-    """Integrate one trajectory from ``(x0, y0)`` facing +x with the method ``method``.
+def trajectory(x0, y0, l1x, l1y, l2x, l2y, w1, w2, u1, u2, radius, horizon, method, rtol, atol, dt, max_steps):
+    """Integrate one trajectory from ``(x0, y0)`` facing +x with the method ``method``; crossed
+    weights ``w1, w2``, uncrossed ``u1, u2`` (used by the four-synapse build only).
 
     Returns ``(first_time, min_dist, status, steps)``; ``first_time`` is NaN without success.
     Status codes are ``morphlearn.results``'s.
@@ -266,8 +288,8 @@ def trajectory(x0, y0, l1x, l1y, l2x, l2y, w1, w2, radius, horizon, method, rtol
     if dmin <= radius:
         return 0.0, dmin, STATUS_OK, 0
     if method == METHOD_RK4:
-        return _rk4_trajectory(y, dmin, l1x, l1y, l2x, l2y, w1, w2, radius, horizon, dt, max_steps)
-    return _dp5_trajectory(y, dmin, l1x, l1y, l2x, l2y, w1, w2, radius, horizon, rtol, atol, max_steps)
+        return _rk4_trajectory(y, dmin, l1x, l1y, l2x, l2y, w1, w2, u1, u2, radius, horizon, dt, max_steps)
+    return _dp5_trajectory(y, dmin, l1x, l1y, l2x, l2y, w1, w2, u1, u2, radius, horizon, rtol, atol, max_steps)
 
 
 _FUNCS = (
@@ -289,17 +311,27 @@ _FUNCS = (
 )
 
 
-def build(jit: Callable[[Any], Any]) -> Callable[..., tuple[float, float, int, int]]:
-    """Compile the model with ``jit`` (e.g. ``numba.njit`` or ``cuda.jit(device=True)``).
+#: Controllers: synapse count -> the right-hand side the integrators call as ``rhs``.
+SYNAPSES = {2: "rhs", 4: "rhs4"}
+
+
+def build(jit: Callable[[Any], Any], synapses: int = 2) -> Callable[..., tuple[float, float, int, int]]:
+    """Compile the model with ``jit`` (e.g. ``numba.njit`` or ``cuda.jit(device=True)``) for the
+    two- or four-synapse controller (``synapses``); the integrators are the same source for both.
 
     The functions refer to each other as module globals; compiling each into a fresh namespace
-    makes every call site resolve to the compiled twin.
+    makes every call site resolve to the compiled twin (``rhs`` resolves to ``rhs4`` for four).
     """
     import types
 
+    if synapses not in SYNAPSES:
+        raise ValueError(f"synapses must be one of {sorted(SYNAPSES)}, got {synapses!r}")
     ns: dict[str, Any] = dict(globals())
     for name in _FUNCS:
-        f = globals()[name]
+        f = globals()[SYNAPSES[synapses] if name == "rhs" else name]
         g = types.FunctionType(f.__code__, ns, name, f.__defaults__, f.__closure__)
+        # numba's on-disk cache keys a function by file, line and qualname: the four-synapse twins
+        # need names of their own, or they would load the two-synapse machine code.
+        g.__qualname__ = name if synapses == 2 else f"{name}_synapses{synapses}"
         ns[name] = jit(g)
     return ns["trajectory"]

@@ -1,0 +1,173 @@
+"""The co-optimisation stage (issue 27): setups, determinism, censoring, config refusals."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import replace
+
+import numpy as np
+import pandas as pd
+import pytest
+
+from morphlearn import config, settings
+from morphlearn.coopt import experiment as ex
+from morphlearn.coopt.landscape import landscape
+from morphlearn.coopt.setups import CANONICAL, decode, paper_setups
+from morphlearn.theory import TheoryParams
+
+BEST = (-0.5, -0.375, 0.5, 0.375)
+TINY = settings.CooptSettings(
+    enabled=True,
+    setups=("a", "d"),
+    learners=("random", "one_plus_one", "cmaes"),
+    sigmas=(0.5, 0.15),
+    protocols=("joint", "sequential"),
+    budgets=(6, 12),
+    cycles=3,
+    seeds=2,
+    seed=0,
+    landscape_weights=3,
+    best_metrics="results/paper/theory/metrics.csv",
+    bootstrap=100,
+)
+
+
+def test_decode_maps_the_box_onto_the_body_square_and_pads_two_weights() -> None:
+    a, b, c, d, _ = paper_setups(BEST)
+    assert (a.dim, b.dim, c.dim, d.dim) == (2, 4, 6, 8)
+    coords, w = decode(a, np.array([[0.3, -0.2]]))
+    assert coords.tolist() == [list(CANONICAL)] and w.tolist() == [[0.3, -0.2, 0.0, 0.0]]
+    coords, w = decode(d, np.array([[1, -1, 0.5, 0, 0.1, 0.2, 0.3, 0.4]]))
+    assert coords.tolist() == [[0.5, -0.5, 0.25, 0.0]] and w.tolist() == [[0.1, 0.2, 0.3, 0.4]]
+
+
+def test_runs_are_deterministic_given_seeds_and_independent_of_batch_neighbours() -> None:
+    p = TheoryParams()
+    setup = paper_setups(BEST)[3]
+    one = ex.run_setup(TINY, setup, 3, p)
+    two = ex.run_setup(TINY, setup, 3, p)
+    pd.testing.assert_frame_equal(one, two)
+    solo = ex.run_setup(replace(TINY, seeds=1), setup, 3, p)
+    pd.testing.assert_frame_equal(solo.reset_index(drop=True), one[one.seed == 0].reset_index(drop=True))
+    joint = one[one.protocol == "joint"]
+    assert set(joint.budget) == {12}  # joint runs once at the largest budget
+    assert all(len(x.split()) == 8 for x in one.x)  # the incumbent: 4 positions + 4 weights
+
+
+def test_summary_counts_censored_runs_at_the_budget() -> None:
+    """Three runs reach a generalist (after 5, 20 and 70 evaluations), one never does: at budget 60
+    P = 2/4 and the restricted mean is (5 + 20 + 60 + 60) / 4; the 70 counts only at 240."""
+    runs = pd.DataFrame(
+        {
+            "setup": "a",
+            "learner": "random",
+            "sigma0": math.nan,
+            "protocol": "joint",
+            "budget": 240,
+            "seed": range(4),
+            "reached": [True, True, True, False],
+            "evals_to_generalist": [5.0, 20.0, 70.0, math.nan],
+            "final_generalist": [True, True, True, False],
+            "forget_events": 0,
+            "forget_opportunities": 0,
+            "x": "",
+        }
+    )
+    s = replace(TINY, budgets=(60, 240), bootstrap=200)
+    out = ex.summarise(runs, s).set_index("budget")
+    assert out.loc[60, "p_generalist"] == 0.5
+    assert out.loc[60, "evals_restricted_mean"] == (5 + 20 + 60 + 60) / 4
+    assert out.loc[240, "p_generalist"] == 0.75
+    assert out.loc[240, "evals_restricted_mean"] == (5 + 20 + 70 + 240) / 4
+    assert out.loc[240, "evals_km_median"] == 20.0
+
+
+def test_wilson_interval() -> None:
+    # 0 of 30: the upper limit is z^2 / (n + z^2)
+    lo, hi = ex.wilson(0, 30)
+    assert lo == 0.0 and hi == pytest.approx(1.959964**2 / (30 + 1.959964**2))
+    lo, hi = ex.wilson(15, 30)
+    assert lo == pytest.approx(1 - hi)
+
+
+def test_landscape_contains_the_two_weight_slice() -> None:
+    """With m = 3 the two-weight slice (u = 0) is a 3 x 3 grid; its counts cannot exceed the
+    four-weight space's."""
+    land = landscape(np.array(BEST), 3, TheoryParams())
+    assert land.controllers == 81 and land.generalists_2w <= land.generalists
+    assert land.at_least_one_2w <= land.at_least_one
+    assert 0.0 <= land.m_l <= 1.0 and 0.0 <= land.m_cf_2w <= 1.0
+    with pytest.raises(ValueError, match="odd"):
+        landscape(np.array(BEST), 4, TheoryParams())
+
+
+@pytest.mark.parametrize(
+    ("section", "match"),
+    [
+        ({"budgets": [60, 100]}, r"coopt.budgets = \[60, 100\]: 100 is not a multiple of coopt.cycles = 3"),
+        ({"sigmas": [0]}, r"coopt.sigmas.0 = 0 is invalid"),
+        ({"landscape_weights": 20}, r"coopt.landscape_weights = 20 is even"),
+        ({"setups": ["f"]}, r"coopt.setups.0 = 'f' is invalid"),
+        ({"seeds": 0}, r"coopt.seeds = 0"),
+    ],
+)
+def test_bad_coopt_config_is_refused(section: dict, match: str) -> None:
+    cfg = config.read("config.yaml")
+    with pytest.raises(config.ConfigError, match=match):
+        settings.parse(cfg | {"coopt": section})
+
+
+def test_stage_end_to_end_on_a_tiny_config(tmp_path) -> None:
+    """The stage's three steps (landscape, runs, analysis) in process, on a tiny config: the
+    tables, summary and figure are written; the summary has the landscape and the (a)-(e) table."""
+    import json
+
+    from morphlearn.coopt import stage
+
+    cfg = config.read("config.yaml") | {
+        "results_dir": str(tmp_path),
+        "coopt": {
+            "enabled": True,
+            "setups": ["a", "c"],
+            "learners": ["random", "cmaes"],
+            "sigmas": [0.5],
+            "budgets": [3, 6],
+            "seeds": 2,
+            "landscape_weights": 3,
+            "bootstrap": 100,
+        },
+    }
+    s = settings.parse(cfg)
+    assert stage.variant_names(s.coopt) == ["random", "cmaes-0.5"]
+    land = [tmp_path / f"{d}.json" for d in stage.LANDSCAPE_DESIGNS]
+    for d, p in zip(stage.LANDSCAPE_DESIGNS, land, strict=True):
+        stage.run_landscape(s, d, p)
+    assert json.loads(land[0].read_text())["coords"] == [0.5, 0.5, 0.5, -0.5]
+    csvs = []
+    for st in s.coopt.setups:
+        for v in stage.variant_names(s.coopt):
+            csvs.append(tmp_path / f"{st}_{v}.csv")
+            stage.run_variant(s, st, v, csvs[-1])
+    stage.run_analysis(s, [str(p) for p in land], [str(p) for p in csvs], tmp_path / "out")
+    md = (tmp_path / "out" / "summary.md").read_text()
+    assert "| canonical | (0.5, 0.5, 0.5, -0.5) |" in md and "| learner | protocol | budget | (a) | (c) |" in md
+    runs = pd.read_csv(tmp_path / "out" / "runs.csv")
+    assert len(runs) == 2 * 2 * 2 * 3  # setups x variants x seeds x (joint at 6, sequential at 3 and 6)
+    assert (tmp_path / "out" / "coopt.png").stat().st_size > 10_000
+
+
+def test_one_plus_one_restart_draws_a_new_parent_when_its_step_collapses() -> None:
+    from morphlearn.learners import algorithms
+
+    plain = algorithms.make("one_plus_one", np.random.default_rng(1), 0.5, 3)
+    lr = algorithms.make("one_plus_one_restart", np.random.default_rng(1), 0.5, 3)
+    for a in (plain, lr):
+        a.tell(a.ask(), np.array([1.0]))  # the parent's own value
+    x0 = lr.x.copy()
+    restarted = False
+    for _ in range(200):
+        for a in (plain, lr):
+            a.tell(a.ask(), np.array([2.0]))  # every offspring worse
+        restarted = restarted or not np.array_equal(lr.x, x0)
+    assert plain.sigma == plain.SIGMA_MIN and np.array_equal(plain.x.shape, (3,))
+    assert restarted and lr.x.shape == (3,) and lr.sigma > lr.SIGMA_MIN

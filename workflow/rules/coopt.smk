@@ -1,0 +1,74 @@
+# Co-optimising the body against a four-synapse controller (beyond the paper, issue 27;
+# docs/coopt.md): the four-weight landscape of three designs, one job per setup and learner
+# variant (its CSV is the cache: a finished job is not rerun), then the analysis.
+
+
+localrules:
+    coopt_analysis,
+
+
+rule coopt_landscape:
+    input:
+        S.coopt.best_metrics,
+    output:
+        f"{R}/coopt/landscape/{{design}}.json",
+    log:
+        f"{R}/logs/coopt/landscape_{{design}}.log",
+    benchmark:
+        f"{R}/benchmarks/coopt/landscape_{{design}}.tsv"
+    wildcard_constraints:
+        design="|".join(coopt_stage.LANDSCAPE_DESIGNS),
+    conda:
+        "../../envs/learners.yaml"
+    threads: 2
+    params:
+        science=cfgmod.digest(coopt_stage.science(S)),
+    script:
+        "../scripts/coopt_landscape.py"
+
+
+rule coopt_runs:
+    input:
+        S.coopt.best_metrics,
+    output:
+        f"{R}/coopt/runs/{{setup}}_{{variant}}.csv",
+    log:
+        f"{R}/logs/coopt/runs_{{setup}}_{{variant}}.log",
+    benchmark:
+        f"{R}/benchmarks/coopt/runs_{{setup}}_{{variant}}.tsv"
+    wildcard_constraints:
+        setup="[a-e]",
+        variant=r"[a-z_]+(-[0-9.e-]+)?",
+    conda:
+        "../../envs/learners.yaml"
+    threads: 1
+    params:
+        science=cfgmod.digest(coopt_stage.science(S)),
+    script:
+        "../scripts/coopt_runs.py"
+
+
+rule coopt_analysis:
+    input:
+        metrics=S.coopt.best_metrics,
+        landscapes=expand(
+            f"{R}/coopt/landscape/{{design}}.json",
+            design=coopt_stage.LANDSCAPE_DESIGNS,
+        ),
+        runs=expand(
+            f"{R}/coopt/runs/{{setup}}_{{variant}}.csv",
+            setup=S.coopt.setups,
+            variant=coopt_stage.variant_names(S.coopt),
+        ),
+    output:
+        runs=f"{R}/coopt/runs.csv",
+        summary=f"{R}/coopt/summary.csv",
+        landscape=f"{R}/coopt/landscape.csv",
+        md=f"{R}/coopt/summary.md",
+        png=f"{R}/coopt/coopt.png",
+    log:
+        f"{R}/logs/coopt/analysis.log",
+    conda:
+        "../../envs/learners.yaml"
+    script:
+        "../scripts/coopt_analysis.py"

@@ -1,0 +1,17 @@
+"""Rule coopt_analysis: the (a)-(e) tables, the landscape table, the summary and the figure."""
+
+import sys
+from pathlib import Path
+
+sys.path.insert(0, str(Path(snakemake.scriptdir)))  # noqa: F821
+from _entry import setup
+
+s = setup(snakemake)  # noqa: F821
+from morphlearn.coopt import stage  # noqa: E402
+
+stage.run_analysis(
+    s,
+    list(snakemake.input.landscapes),  # noqa: F821
+    list(snakemake.input.runs),  # noqa: F821
+    Path(snakemake.output.md).parent,  # noqa: F821
+)

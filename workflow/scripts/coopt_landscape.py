@@ -1,0 +1,12 @@
+"""Rule coopt_landscape: M_L and M_CF of one design's four-weight controller space."""
+
+import sys
+from pathlib import Path
+
+sys.path.insert(0, str(Path(snakemake.scriptdir)))  # noqa: F821
+from _entry import setup
+
+s = setup(snakemake)  # noqa: F821
+from morphlearn.coopt import stage  # noqa: E402
+
+stage.run_landscape(s, snakemake.wildcards.design, snakemake.output[0])  # noqa: F821
