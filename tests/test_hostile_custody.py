@@ -21,7 +21,8 @@ import pandas as pd
 import pytest
 from conftest import ROOT, snakemake
 
-from morphlearn import bundle, bundle_check, cli, metrics, provenance, resimulate
+from morphlearn import bundle, bundle_check, cli, metrics, provenance, resimulate, rules
+from morphlearn.figures import caption, data
 
 SMOKE = ("--configfile", "config/smoke.yaml")
 PAPER = ROOT / "results" / "paper"
@@ -72,16 +73,21 @@ def _reseal_manifest(b: Path, *rels: str) -> None:
     _json_edit(b / bundle.MANIFEST, lambda m: m["files"].update({r: provenance.sha256_file(b / r) for r in rels}))
 
 
+# The issue's examples run the workflow end to end (one Snakemake start each); their variants call
+# in process what the workflow calls at its start (rules.check_custody, rules.check_render_inputs,
+# bundle.check_target), which costs milliseconds instead of a Snakemake start.
+
 # -- 1. custody in a run: an edited table or record stops the rerun before anything runs ------
 
 
 def _edit_generalists(r: Path) -> str:
-    t = r / "theory/metrics.csv"
-    _csv_edit(t, generalists=25, M_L=1.0, M_CF=1.0)  # the issue's "generalists into M_L = 1"
+    """The issue's example: a design's generalists turned into M_L = 1."""
+    _csv_edit(r / "theory/metrics.csv", generalists=25, M_L=1.0, M_CF=1.0)
     return "theory/metrics.csv: SHA-256"
 
 
 def _fake_commit(r: Path) -> str:
+    """The issue's example: a fake commit in the record the captions quote."""
     _json_edit(r / "theory/metrics.provenance.json", lambda p: p.update(git_commit="0" * 40))
     return "metrics.provenance.json: edited or damaged"
 
@@ -98,16 +104,30 @@ def _fake_store_hash(r: Path) -> str:
 def _reseal_outputs_only(r: Path) -> str:
     """A forger edits the table and writes its new digest into the record (not the seal)."""
     t = r / "theory/metrics.csv"
-    _csv_edit(t, generalists=0, M_L=0.0, M_CF=0.0)
-    _json_edit(
-        r / "theory/metrics.provenance.json", lambda p: p["outputs"].update({"metrics.csv": provenance.sha256_file(t)})
-    )
+    _csv_edit(t, generalists=7)
+    _json_edit(r / "theory/metrics.provenance.json", lambda p: p["outputs"].update({t.name: provenance.sha256_file(t)}))
     return "metrics.provenance.json: edited or damaged"
+
+
+def _reseal_everything(r: Path) -> str:
+    """A forger who re-seals the record too: the table no longer matches the store it names."""
+    t = r / "theory/metrics.csv"
+    _csv_edit(t, generalists=7)
+    side = r / "theory/metrics.provenance.json"
+    rec = json.loads(side.read_text())
+    rec["config"]["merged_sha256_overall"] = "e" * 64
+    provenance.write_sealed(side, rec, [t])
+    return "computed from the merged store eeeeeeeeeeee"
 
 
 def _record_removed(r: Path) -> str:
     (r / "theory/metrics.provenance.json").unlink()
     return "theory/metrics.csv: no provenance record"
+
+
+def _unsealed_record(r: Path) -> str:
+    _json_edit(r / "theory/metrics.provenance.json", lambda p: [p.pop(k) for k in ("outputs", provenance.SEAL)])
+    return "records no digest of metrics.csv"
 
 
 def _summary_edited(r: Path) -> str:
@@ -122,38 +142,71 @@ def _reproduction_edited(r: Path) -> str:
     return "reproduction.csv: SHA-256"
 
 
-def _unsealed_record(r: Path) -> str:
-    _json_edit(r / "theory/metrics.provenance.json", lambda p: [p.pop(k) for k in ("outputs", provenance.SEAL)])
-    return "records no digest of metrics.csv"
-
-
 @pytest.mark.parametrize(
-    "attack",
+    ("attack", "end_to_end"),
     [
-        _edit_generalists,
-        _fake_commit,
-        _fake_store_hash,
-        _reseal_outputs_only,
-        _record_removed,
-        _unsealed_record,
-        _summary_edited,
-        _reproduction_edited,
+        (_edit_generalists, True),
+        (_fake_commit, True),
+        (_fake_store_hash, False),
+        (_reseal_outputs_only, False),
+        (_record_removed, False),
+        (_unsealed_record, False),
+        (_summary_edited, False),
+        (_reproduction_edited, False),
     ],
 )
-def test_rerun_refuses_edited_results(run: Path, attack: Callable[[Path], str]) -> None:
+def test_rerun_refuses_edited_results(run: Path, attack: Callable[[Path], str], end_to_end: bool) -> None:
     r = run / "results"
     keep = {p: p.read_bytes() for p in [*r.glob("*/metrics*"), *r.glob("summary.*"), *r.glob("reproduction.*")]}
     try:
         want = attack(r)
         before = _snapshot(r)
-        proc = snakemake(run, "--cores", "1", *SMOKE, check=False)
-        assert proc.returncode == 2, proc.stderr[-2000:]
-        first = _refusal(proc)
-        assert want in first and "nothing was run" in first, first
+        if end_to_end:
+            proc = snakemake(run, "--cores", "1", *SMOKE, check=False)
+            assert proc.returncode == 2, proc.stderr[-2000:]
+            first = _refusal(proc)
+            assert want in first and "nothing was run" in first, first
+        else:
+            with pytest.raises(provenance.CustodyError) as err:
+                rules.check_custody(
+                    [r / m / "metrics.csv" for m in ("theory", "empirical")],
+                    [r / "summary.json", r / "reproduction.csv"],
+                )
+            assert want in str(err.value), err.value
         assert _snapshot(r) == before  # nothing written, nothing deleted
     finally:
         for p, b in keep.items():
             p.write_bytes(b)
+
+
+def test_a_resealed_record_must_name_the_store_read_beside_it(run: Path) -> None:
+    """A forger who re-seals the record after editing the table passes the start check (the
+    record is whole), but the figures and the table read the table beside its store, and the
+    store's digest is not the one the record names."""
+    r = run / "results"
+    keep = {p: p.read_bytes() for p in r.glob("theory/metrics*")}
+    try:
+        want = _reseal_everything(r)
+        with pytest.raises(provenance.CustodyError, match=want):
+            data.require_results(r, "theory")
+    finally:
+        for p, b in keep.items():
+            p.write_bytes(b)
+
+
+def test_caption_refuses_an_edited_record(run: Path) -> None:
+    """Where the record is quoted (a caption's data paragraph), its seal is checked first."""
+    r = run / "results"
+    res = data.require_results(r, "theory")
+    assert "git commit test" in caption.provenance_md([res])
+    side = r / "theory/metrics.provenance.json"
+    keep = side.read_bytes()
+    try:
+        _fake_commit(r)
+        with pytest.raises(provenance.CustodyError, match="edited or damaged"):
+            caption.provenance_md([res])
+    finally:
+        side.write_bytes(keep)
 
 
 def test_untouched_run_passes_the_custody_check(run: Path) -> None:
@@ -165,16 +218,18 @@ def test_untouched_run_passes_the_custody_check(run: Path) -> None:
 
 
 def _row_changed(b: Path) -> str:
-    _csv_edit(b / "theory/metrics.csv", generalists=0, M_L=0.0, M_CF=0.0)
+    """The issue's example: one metrics row of a bundle changed."""
+    _csv_edit(b / "theory/metrics.csv", generalists=7)
     return "theory/metrics.csv: checksum differs from bundle.json"
 
 
 def _chunk_flipped(b: Path) -> str:
+    """The issue's example: a flipped byte in a chunk no figure draws."""
     held = json.loads((b / bundle.MANIFEST).read_text())["subsets"]["theory"]["designs"]
-    chunk = b / f"theory/merged.zarr/min_dist/c/{len(held) - 1}/0/0/0"  # a design no figure draws
-    data = bytearray(chunk.read_bytes())
-    data[len(data) // 2] ^= 0x01
-    chunk.write_bytes(bytes(data))
+    chunk = b / f"theory/merged.zarr/min_dist/c/{len(held) - 1}/0/0/0"
+    raw = bytearray(chunk.read_bytes())
+    raw[len(raw) // 2] ^= 0x01
+    chunk.write_bytes(bytes(raw))
     return f"merged.zarr/min_dist/c/{len(held) - 1}/0/0/0: checksum differs"
 
 
@@ -196,22 +251,42 @@ def _provenance_edited_in_bundle(b: Path) -> str:
     return "metrics.provenance.json: checksum differs"
 
 
+def _manifest_unreadable(b: Path) -> str:
+    (b / bundle.MANIFEST).write_text('{"files": ')
+    return "bundle.json: unreadable"
+
+
 @pytest.mark.parametrize(
-    "attack", [_row_changed, _chunk_flipped, _forged_manifest, _stray_log, _provenance_edited_in_bundle]
+    ("attack", "end_to_end"),
+    [
+        (_row_changed, True),
+        (_chunk_flipped, True),
+        (_forged_manifest, False),
+        (_stray_log, False),
+        (_provenance_edited_in_bundle, False),
+        (_manifest_unreadable, False),
+    ],
 )
-def test_render_only_refuses_a_damaged_bundle(run: Path, attack: Callable[[Path], str]) -> None:
+def test_render_only_refuses_a_damaged_bundle(run: Path, attack: Callable[[Path], str], end_to_end: bool) -> None:
     b = run / "results" / "attacked"
     shutil.rmtree(b, ignore_errors=True)
     shutil.copytree(run / "smoke-bundle", b)
     want = attack(b)
     before = _snapshot(b)
-    proc = snakemake(
-        run, "--cores", "1", *SMOKE, "--config", "render_only=True", "results_dir=results/attacked", check=False
-    )
-    assert proc.returncode == 2, proc.stderr[-2000:]
-    first = _refusal(proc)
-    assert first.startswith("morphlearn: render_only: ") and "nothing was rendered" in first, first
-    assert want in proc.stderr, proc.stderr[-2000:]
+    if end_to_end:
+        proc = snakemake(
+            run, "--cores", "1", *SMOKE, "--config", "render_only=True", "results_dir=results/attacked", check=False
+        )
+        assert proc.returncode == 2, proc.stderr[-2000:]
+        first = _refusal(proc)
+        assert first.startswith("morphlearn: render_only: ") and "nothing was rendered" in first, first
+        assert want in proc.stderr, proc.stderr[-2000:]
+    else:
+        with pytest.raises(ValueError) as err:
+            rules.check_render_inputs(
+                [f"{b}/{m}/{n}" for m in ("theory", "empirical") for n in ("metrics.csv", "merged.zarr")]
+            )
+        assert want in str(err.value), err.value
     assert _snapshot(b) == before  # no figure, log or benchmark written
 
 
@@ -250,16 +325,40 @@ def _results_folder(wd: Path) -> str:
     return "results"
 
 
-@pytest.mark.parametrize("target", [_docs, _readme, _committed_paper, _project_root, _results_folder])
-def test_bundle_dir_refuses_what_it_did_not_make(run: Path, target: Callable[[Path], str]) -> None:
+def _link_to_docs(wd: Path) -> str:
+    (wd / "docs-link").unlink(missing_ok=True)
+    os.symlink("docs", wd / "docs-link")
+    return "docs-link"
+
+
+@pytest.mark.parametrize(
+    ("target", "end_to_end"),
+    [
+        (_docs, True),
+        (_readme, True),
+        (_committed_paper, True),
+        (_project_root, False),
+        (_results_folder, False),
+        (_link_to_docs, False),
+    ],
+)
+def test_bundle_dir_refuses_what_it_did_not_make(
+    run: Path, target: Callable[[Path], str], end_to_end: bool, monkeypatch: pytest.MonkeyPatch
+) -> None:
     (run / "docs").mkdir(exist_ok=True)
     (run / "docs/index.md").write_text("documentation\n")
     name = target(run)
     before = _snapshot(run / "docs") | _snapshot(run / "results")
-    proc = snakemake(run, "bundle", "--cores", "1", *SMOKE, "--config", f"bundle_dir={name}", check=False)
-    assert proc.returncode == 2, proc.stderr[-2000:]
-    first = _refusal(proc)
-    assert first.startswith(f"morphlearn: bundle_dir = '{name}' ") and "nothing was written" in first, first
+    if end_to_end:
+        proc = snakemake(run, "bundle", "--cores", "1", *SMOKE, "--config", f"bundle_dir={name}", check=False)
+        assert proc.returncode == 2, proc.stderr[-2000:]
+        first = _refusal(proc).removeprefix("morphlearn: ")
+    else:
+        monkeypatch.chdir(run)
+        with pytest.raises(bundle.BundleError) as err:
+            bundle.check_target(name, bundle.made_by(["config/smoke.yaml", "config.yaml"], "results"))
+        first = str(err.value)
+    assert first.startswith(f"bundle_dir = '{name}' ") and "nothing was written" in first, first
     assert not any(w in first.lower() for w in ("delete", "remove", "rm ")), first
     assert _snapshot(run / "docs") | _snapshot(run / "results") == before
 
@@ -275,11 +374,14 @@ def test_config_slip_cannot_overwrite_the_paper_bundle(run: Path) -> None:
     assert _snapshot(run / "results/paper") == before
 
 
-def test_bundle_dir_allows_an_absent_folder_and_its_own_bundle(run: Path) -> None:
+def test_bundle_dir_allows_an_absent_folder_and_its_own_bundle(run: Path, monkeypatch: pytest.MonkeyPatch) -> None:
     snakemake(run, "bundle", "-n", "--cores", "1", *SMOKE, "--config", "bundle_dir=results/new-bundle")
     own = run / "results" / "own"
     shutil.copytree(run / "smoke-bundle", own, dirs_exist_ok=True)
-    snakemake(run, "bundle", "-n", "--cores", "1", *SMOKE, "--config", "bundle_dir=results/own")
+    monkeypatch.chdir(run)
+    bundle.check_target("results/own", bundle.made_by(["config/smoke.yaml", "config.yaml"], "results"))
+    (run / "results/empty").mkdir(exist_ok=True)
+    bundle.check_target("results/empty", bundle.made_by(["config/smoke.yaml", "config.yaml"], "results"))
 
 
 # -- 2. a failed rerun keeps the previous valid outputs ----------------------------------------
@@ -291,15 +393,13 @@ def test_failed_reruns_keep_previous_outputs(run: Path) -> None:
     r = run / "results"
     keep = ["theory/metrics.csv", "theory/metrics.provenance.json", "figures/fig6.png", "figures/fig6.caption.md"]
     before = {k: (r / k).read_bytes() for k in keep}
-    canonical = json.loads((r / "summary.json").read_text())["theory"]["canonical"]
-    assert canonical  # the design Fig. 6 draws
     chunks = sorted((r / "theory/merged.zarr/first_time/c").rglob("0"))
     saved = {p: p.read_bytes() for p in chunks if p.is_file()}
     try:
-        for p in saved:
-            data = bytearray(saved[p])
-            data[len(data) // 2] ^= 0x01
-            p.write_bytes(bytes(data))
+        for p, b in saved.items():  # every design's chunk, so the canonical one Fig. 6 draws too
+            raw = bytearray(b)
+            raw[len(raw) // 2] ^= 0x01
+            p.write_bytes(bytes(raw))
         # the figure first: its inputs stay older than it, so only it re-runs (forced); then the metrics
         for rule in ("figure_fig6", "metrics"):
             proc = snakemake(run, "--cores", "1", *SMOKE, "--forcerun", rule, check=False)
