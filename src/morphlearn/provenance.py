@@ -191,6 +191,12 @@ def _check_in_bundle(path: Path, side: Path, digest: str) -> None:
             raise CustodyError(f"{p}: SHA-256 {d[:12]} differs from {_MANIFEST} (edited or damaged)")
 
 
+def merged_source(ds: Any) -> str:
+    """The digest of the full merged dataset a store holds or was cut from (the same for a run's
+    store and for a bundle's subset of it)."""
+    return ds.attrs.get("subset_of") or ds.attrs["integrity"]["overall"]
+
+
 def merged_digests(ds: Any) -> set[str]:
     """Digests a merged store answers to: its own, and that of the store it was cut from (a
     bundle's subset, or a subset of a run that read a bundle's)."""

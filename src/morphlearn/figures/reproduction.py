@@ -348,9 +348,9 @@ def write_record(
             str(Path(p).relative_to(r)): provenance.sha256_file(p)
             for p in [*(r / m / "metrics.csv" for m in models), *extra]
         },
+        # the full dataset's digest: the same for a run's store and for its bundle's subset
         "merged_stores": {
-            f"{m}/merged.zarr": sorted(provenance.merged_digests(store.open_merged(r / m / "merged.zarr")))
-            for m in models
+            f"{m}/merged.zarr": provenance.merged_source(store.open_merged(r / m / "merged.zarr")) for m in models
         },
     }
     provenance.write_sealed(Path(outputs[0]).with_name(RECORD), rec, outputs)
