@@ -95,7 +95,7 @@ def test_resimulated_designs_match_bundle(smoke_bundle: Path, tmp_path: Path) ->
     assert resimulate.resimulate(copy, ["canonical"])[0].startswith(f"design {c}: metrics row M_L, M_CF")
     held = set(json.loads((copy / bundle.MANIFEST).read_text())["subsets"]["theory"]["designs"])
     absent = min(set(table.design) - held)
-    assert resimulate.resimulate(copy, [str(absent)]) == [f"design {absent}: not held in {copy}/theory/merged.zarr"]
+    assert resimulate.resimulate(copy, [str(absent)]) == []  # re-simulated though not held (issue 24)
     with pytest.raises(bundle.BundleError, match="allowed: canonical"):
         resimulate.resimulate(copy, ["best"])
     assert cli.main(["check-bundle", str(smoke_bundle), "--resimulate", "canonical"]) == 0

@@ -16,7 +16,7 @@ import yaml
 from conftest import ROOT
 from test_reliability import REL_CONFIG, SCIENCE, SHARD_DESIGNS, G, W, _results, _shards
 
-from morphlearn import cli, config, metrics, models, rules, settings, store
+from morphlearn import cli, config, metrics, models, provenance, rules, settings, store
 from morphlearn.provenance import sha256_file
 from morphlearn.results import DesignResult
 
@@ -221,6 +221,11 @@ def test_render_only_refuses_a_damaged_or_missing_input(merged: Path, tmp_path: 
     with pytest.raises(store.IntegrityError, match=r"metrics\.csv: missing"):
         rules.check_render_inputs([str(csv), str(merged)])
     csv.write_text("x\n")
+    # a table nothing vouches for is refused (issue 24: custody); one with its sealed record passes
+    with pytest.raises(provenance.CustodyError, match=r"metrics\.csv: no provenance record"):
+        rules.check_render_inputs([str(csv), str(merged)])
+    overall = store.open_merged(merged).attrs["integrity"]["overall"]
+    provenance.write_sealed(provenance.sidecar_of(csv), {"config": {"merged_sha256_overall": overall}}, [csv])
     rules.check_render_inputs([str(csv), str(merged)])
     _chunk(merged, "first_time", 2).unlink()
     with pytest.raises(store.IntegrityError, match=r"first_time of design \d+ \(position 2\): its chunk file is miss"):

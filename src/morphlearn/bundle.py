@@ -40,6 +40,8 @@ COPIED = (
     "reproduction.md",
     "reproduction.html",
     "persistence.csv",
+    "summary.provenance.json",
+    "reproduction.provenance.json",
 )
 #: Per model.
 MODEL_FILES = ("metrics.csv", "metrics.provenance.json")
@@ -89,6 +91,42 @@ def made_by(configs: list[str], results_dir: str) -> dict[str, Any]:
     }
 
 
+def check_target(bundle_dir: str | Path, made_by: dict[str, Any]) -> None:
+    """Refuse (BundleError) a ``bundle_dir`` whose contents this run did not make: only an absent or
+    empty folder, or a bundle whose ``bundle.json`` names the same configs and results folder, may
+    be (re)written. The message names what is there and never advises deleting it."""
+    target = Path(bundle_dir)
+    here = Path.cwd().resolve()
+    results = Path(made_by["results_dir"]).resolve()
+    allowed = (
+        "allowed: an absent or empty folder, or a bundle made by this same config (its bundle.json "
+        f"made_by: configs {sorted(made_by['configs'])}, results_dir {made_by['results_dir']!r}); nothing was written"
+    )
+    why = None
+    if target.resolve() in (here, *here.parents) or target.resolve() in (results, *results.parents):
+        why = "is the project folder, the results folder or one that holds them"
+    elif target.is_symlink() or (target.exists() and not target.is_dir()):
+        why = "is a file (or a link), not a bundle folder"
+    elif target.is_dir() and any(target.iterdir()):
+        mpath = target / MANIFEST
+        try:
+            by = json.loads(mpath.read_text()).get("made_by", {})
+        except (OSError, ValueError, AttributeError):
+            by = None
+        if not isinstance(by, dict):
+            why = f"holds files and no readable {MANIFEST}: the bundle rule would replace what it did not make"
+        elif (
+            sorted(by.get("configs") or []) != sorted(made_by["configs"])
+            or by.get("results_dir") != made_by["results_dir"]
+        ):
+            why = (
+                f"holds a bundle made by configs {sorted(by.get('configs') or [])} from results_dir "
+                f"{by.get('results_dir')!r}, which this run's config would overwrite"
+            )
+    if why:
+        raise BundleError(f"bundle_dir = {str(bundle_dir)!r} {why}; {allowed}")
+
+
 def _models(run_dir: Path) -> list[str]:
     from morphlearn.models import MODELS
 
@@ -96,8 +134,9 @@ def _models(run_dir: Path) -> list[str]:
 
 
 def bundle_files(out_dir: Path) -> Iterable[Path]:
+    """Every file under the bundle folder but its manifest (a stray one included)."""
     for p in sorted(out_dir.rglob("*")):
-        if p.is_file() and p.name != MANIFEST and ".snakemake_timestamp" not in p.name:
+        if p.is_file() and p.relative_to(out_dir).as_posix() != MANIFEST:
             yield p
 
 
@@ -110,6 +149,9 @@ def build(run_dir: str | Path, out_dir: str | Path, *, top: int, made_by: dict[s
     if REFERENCE not in models:
         raise BundleError(f"{run_dir}: no {REFERENCE}/metrics.csv; run the workflow first")
     subsets: dict[str, Any] = {}
+    for name in ("summary.json", "reproduction.csv"):  # custody: what their records name
+        if provenance.sidecar_of(run_dir / name).is_file():
+            provenance.check_derived(run_dir / name)
     with store.atomic_path(out_dir) as tmp:
         tmp.mkdir(parents=True)
         for name in COPIED:
@@ -119,6 +161,10 @@ def build(run_dir: str | Path, out_dir: str | Path, *, top: int, made_by: dict[s
             (tmp / model).mkdir()
             for name in MODEL_FILES:
                 shutil.copy2(run_dir / model / name, tmp / model / name)
+            # custody: what goes into the bundle is what the metrics rule wrote from this store
+            provenance.check_derived(
+                run_dir / model / "metrics.csv", store.open_merged(run_dir / model / "merged.zarr")
+            )
             table = pd.read_csv(run_dir / model / "metrics.csv")
             n = positions_of(run_dir / model)
             # every design of the grid (theory, or a physics survey): only the drawn ones' arrays

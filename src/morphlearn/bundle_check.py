@@ -5,10 +5,14 @@ from __future__ import annotations
 
 import json
 import shutil
-from pathlib import Path
+from pathlib import Path, PurePosixPath
 
-from morphlearn import provenance, store
+import numpy as np
+import pandas as pd
+
+from morphlearn import metrics, provenance, store
 from morphlearn.bundle import MANIFEST, BundleError, bundle_files
+from morphlearn.grid import ENV_ANGLES_DEG
 
 
 def extract_model(bundle_dir: str | Path, model: str, out: dict[str, str | Path]) -> None:
@@ -18,40 +22,152 @@ def extract_model(bundle_dir: str | Path, model: str, out: dict[str, str | Path]
     if problems:
         raise BundleError(f"{bundle_dir}: {len(problems)} problem(s), first: {problems[0]}")
     src = Path(bundle_dir) / model
-    for name, key in (("metrics.csv", "metrics"), ("metrics.provenance.json", "provenance")):
-        dst = Path(out[key])
-        dst.parent.mkdir(parents=True, exist_ok=True)
-        with store.atomic_path(dst) as tmp:
-            shutil.copy2(src / name, tmp)
+    dst = Path(out["metrics"])
+    with store.atomic_path(dst) as tmp:
+        shutil.copy2(src / "metrics.csv", tmp)
+    # custody carries over: the copied table's record is sealed with its digest (a committed
+    # bundle's older record is vouched for by the manifest just checked)
+    rec = provenance.read_record(src / "metrics.provenance.json")
+    if provenance.SEAL not in rec:
+        rec = provenance.seal(rec | {"from_bundle": str(bundle_dir)}, [dst])
+    with store.atomic_path(Path(out["provenance"])) as tmp:
+        tmp.write_text(json.dumps(rec, indent=1, sort_keys=True) + "\n")
     with store.atomic_path(Path(out["merged"])) as tmp:
         shutil.copytree(src / "merged.zarr", tmp)
 
 
-def check(out_dir: str | Path) -> list[str]:
-    """Problems of a bundle (empty: every file listed, present and unchanged, nothing extra)."""
+def check(out_dir: str | Path, *, rows: bool = True) -> list[str]:
+    """Problems of a bundle (empty: every file listed, present and unchanged, nothing extra,
+    every metrics row consistent). Never reads a path the manifest names outside the bundle."""
     out_dir = Path(out_dir)
     mpath = out_dir / MANIFEST
     if not mpath.is_file():
         return [f"{mpath}: missing"]
     try:
-        listed = json.loads(mpath.read_text())["files"]
-    except (ValueError, KeyError) as e:
+        manifest = json.loads(mpath.read_text())
+    except (OSError, UnicodeDecodeError, ValueError) as e:
         return [f"{mpath}: unreadable ({e})"]
+    listed = manifest.get("files") if isinstance(manifest, dict) else None
+    if not isinstance(listed, dict) or not all(isinstance(k, str) and isinstance(v, str) for k, v in listed.items()):
+        return [f"{mpath}: wrong shape: an object whose 'files' maps each path in the bundle to its SHA-256"]
+    root = out_dir.resolve()
     problems = []
     for rel, digest in listed.items():
         p = out_dir / rel
-        if not p.is_file():
+        if not _inside(rel, p, root):
+            problems.append(f"{mpath}: lists {rel!r}, a path outside the bundle (not read)")
+        elif not p.is_file():
             problems.append(f"{p}: listed in {MANIFEST} but missing")
         elif provenance.sha256_file(p) != digest:
             problems.append(f"{p}: checksum differs from {MANIFEST} (changed or damaged)")
+    rendered = rendered_files(listed)
     for p in bundle_files(out_dir):
-        rel = str(p.relative_to(out_dir))
-        rendered = rel.startswith(_RENDERED) or (rel.startswith("figures/") and rel.endswith(".html"))
-        if rel not in listed and not rendered:
+        rel = p.relative_to(out_dir).as_posix()
+        if rel not in listed and rel not in rendered:
             problems.append(f"{p}: not listed in {MANIFEST}")
+    if rows:
+        problems += check_rows(out_dir, listed)
     return problems
 
 
-#: What a re-render writes beside the bundle's files (logs, benchmarks, and figures/*.html: the
-#: executed notebooks).
-_RENDERED = ("logs/", "benchmarks/", ".snakemake")
+def _inside(rel: str, p: Path, root: Path) -> bool:
+    parts = PurePosixPath(rel).parts
+    if not rel or PurePosixPath(rel).is_absolute() or ".." in parts or "\\" in rel:
+        return False
+    try:
+        return p.resolve().is_relative_to(root)  # a symbolic link out of the bundle is outside
+    except (OSError, RuntimeError):
+        return False
+
+
+def rendered_files(listed: dict[str, str]) -> set[str]:
+    """What re-rendering a bundle in place writes beside its files, exactly: for each figure
+    listed (``D/N.png``) its executed notebook's HTML, its notebook log and benchmark, and the
+    reproduction table's log and benchmark. Anything else not listed is a stray."""
+    out = {".snakemake_timestamp"}
+    for rel in listed:
+        if not rel.endswith(".png"):
+            continue
+        pp = PurePosixPath(rel)
+        stem = pp.with_suffix("")
+        out |= {f"{stem}.html", f"logs/{stem}.ipynb", f"logs/{stem}.log", f"benchmarks/{stem}.tsv"}
+    if "reproduction.csv" in listed:
+        out |= {"logs/reproduction.log", "benchmarks/reproduction.tsv", "reproduction.provenance.json"}
+    return out
+
+
+def check_rows(out_dir: str | Path, listed: dict[str, str]) -> list[str]:
+    """Every metrics row of the bundle consistent in itself: counts within the controllers,
+    generalists <= every environment's count <= at least one <= their sum, M_L = generalists /
+    controllers and M_CF = generalists / at least one (as the table stores floats). A forger who
+    edits a row and its digest in the manifest must now keep all of these, and re-simulation
+    (``--resimulate``) checks the counts themselves."""
+    out_dir = Path(out_dir)
+    problems = []
+    for rel in sorted(
+        r for r in listed if PurePosixPath(r).name == "metrics.csv" and _inside(r, out_dir / r, out_dir.resolve())
+    ):
+        path = out_dir / rel
+        if not path.is_file():
+            continue
+        try:
+            table = pd.read_csv(path)
+        except (ValueError, UnicodeDecodeError) as e:
+            problems.append(f"{path}: unreadable ({e})")
+            continue
+        problems += [f"{path}: {p}" for p in row_problems(table, _controllers(path))]
+    return problems
+
+
+def row_problems(table: pd.DataFrame, cells: int | None) -> list[str]:
+    """What is inconsistent in a metrics table's rows (``cells``: controllers per design, when
+    known), at most a few lines per kind."""
+    envs = [f"n_{a}" for a in ENV_ANGLES_DEG]
+    need = ["design", *envs, "generalists", "at_least_one", "M_L", "M_CF"]
+    missing = [c for c in need if c not in table.columns]
+    if missing:
+        return [f"no column {missing[0]!r} (a metrics table has {', '.join(need)})"]
+    counts = table[[*envs, "generalists", "at_least_one"]]
+    if not all(pd.api.types.is_integer_dtype(t) for t in counts.dtypes):
+        return ["counts that are not whole numbers"]
+    n = counts[envs].to_numpy()
+    g, a = table.generalists.to_numpy(), table.at_least_one.to_numpy()
+    total = n.sum(axis=1)
+    bad: dict[str, np.ndarray] = {
+        "a negative count": (counts.to_numpy() < 0).any(axis=1),
+        "generalists above an environment's count": (g[:, None] > n).any(axis=1),
+        "an environment's count above at_least_one": (n > a[:, None]).any(axis=1),
+        "at_least_one above the sum of the environments' counts": a > total,
+        "counts that no set of controllers gives (sum over environments > 3 at_least_one + generalists)": total
+        > 3 * a + g,
+    }
+    if cells:
+        bad[f"a count above the {cells} controllers"] = (counts.to_numpy() > cells).any(axis=1)
+        want_l = np.array([float(metrics.CSV_FLOAT_FORMAT % (x / cells)) for x in g])
+        bad[f"M_L != generalists / {cells}"] = table.M_L.to_numpy() != want_l
+    want_cf = np.array([float(metrics.CSV_FLOAT_FORMAT % (x / y)) if y else 0.0 for x, y in zip(g, a, strict=True)])
+    bad["M_CF != generalists / at_least_one"] = table.M_CF.to_numpy() != want_cf
+    out = []
+    for why, mask in bad.items():
+        rows = table.design[mask].tolist()
+        if rows:
+            more = f" and {len(rows) - 3} more" if len(rows) > 3 else ""
+            out.append(f"design {', '.join(map(str, rows[:3]))}{more}: {why}")
+    return out
+
+
+def _controllers(metrics_csv: Path) -> int | None:
+    """Controllers per design of a table in a bundle: from the merged store beside it, else from
+    the summary of its folder (a scenario's), else unknown."""
+    merged = metrics_csv.parent / "merged.zarr"
+    if merged.is_dir():
+        try:
+            ds = store.open_merged(merged)
+            return int(ds.sizes["w1"] * ds.sizes["w2"])
+        except (ValueError, KeyError, OSError):
+            return None
+    summary = metrics_csv.parent.parent / "summary.json"
+    try:
+        return int(json.loads(summary.read_text())[metrics_csv.parent.name]["controllers"])
+    except (OSError, ValueError, KeyError, TypeError):
+        return None

@@ -249,7 +249,8 @@ def build_parser() -> argparse.ArgumentParser:
         metavar="WHICH",
         default=[],
         help="also re-simulate these theory designs and compare them exactly: canonical, "
-        "best_M_L, best_M_CF or design indices (paper resolution: a few seconds each)",
+        "best_M_L, best_M_CF, design indices (held in the bundle or not) or sample:K (K random "
+        "rows); paper resolution: a few seconds each",
     )
     b.set_defaults(func=cmd_check_bundle)
     c = sub.add_parser("compare", help="rank agreement (Spearman, bootstrap interval) of two metrics tables")

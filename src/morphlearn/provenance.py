@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import hashlib
+import json
 import os
 import platform
 import subprocess
@@ -76,3 +77,127 @@ def record(config_subset: dict[str, Any], inputs: list[str | Path] = ()) -> dict
         "config": config_subset,
         "inputs": {str(p): sha256_file(p) for p in inputs},
     }
+
+
+# ---------------------------------------------------------------------------------------------
+# Custody: a derived file's record names its own digest and is sealed by a digest of itself, so
+# every consumer can tell an edited table or an edited record before it reads them.
+
+#: The record's digest of itself (of the record without this key, canonical JSON).
+SEAL = "record_sha256"
+#: The digests of the files the record describes, by file name (a bundle copy keeps them valid).
+OUTPUTS = "outputs"
+#: A bundle's manifest (morphlearn.bundle.MANIFEST; here to keep this module free of imports).
+_MANIFEST = "bundle.json"
+
+
+class CustodyError(ValueError):
+    """A derived file or its record was edited, damaged or has no record; the message names it."""
+
+
+def _canonical(rec: dict[str, Any]) -> bytes:
+    return json.dumps({k: v for k, v in rec.items() if k != SEAL}, sort_keys=True, separators=(",", ":")).encode()
+
+
+def seal(rec: dict[str, Any], outputs: list[str | Path] = ()) -> dict[str, Any]:
+    """``rec`` with the digests of ``outputs`` (the files it describes) and its own digest."""
+    out = {k: v for k, v in rec.items() if k != SEAL}
+    if outputs:
+        out[OUTPUTS] = {Path(p).name: sha256_file(p) for p in outputs}
+    out[SEAL] = hashlib.sha256(_canonical(out)).hexdigest()
+    return out
+
+
+def write_sealed(path: str | Path, rec: dict[str, Any], outputs: list[str | Path]) -> None:
+    """Write a derived file's sealed record (``rec`` plus the outputs' digests) atomically."""
+    from morphlearn import store
+
+    with store.atomic_path(path) as tmp:
+        tmp.write_text(json.dumps(seal(rec, outputs), indent=1, sort_keys=True) + "\n")
+
+
+def sidecar_of(path: str | Path) -> Path:
+    """Where a derived file's record lives: ``metrics.csv`` -> ``metrics.provenance.json``."""
+    return Path(path).with_suffix(".provenance.json")
+
+
+def read_record(path: str | Path) -> dict[str, Any]:
+    """A provenance record, its seal checked when it has one (CustodyError naming the file)."""
+    path = Path(path)
+    try:
+        rec = json.loads(path.read_text())
+    except (OSError, UnicodeDecodeError, ValueError) as e:
+        raise CustodyError(f"{path}: unreadable provenance record ({e})") from None
+    if not isinstance(rec, dict):
+        raise CustodyError(f"{path}: a provenance record is a JSON object, found {type(rec).__name__}")
+    if SEAL in rec and hashlib.sha256(_canonical(rec)).hexdigest() != rec[SEAL]:
+        raise CustodyError(f"{path}: edited or damaged (its content no longer matches its own {SEAL})")
+    return rec
+
+
+def check_derived(path: str | Path, merged: Any = None) -> dict[str, Any]:
+    """Check a derived file (a metrics table) against its record before reading it; the record.
+
+    A sealed record must name the file's SHA-256; an older, unsealed record is accepted only
+    inside a bundle whose ``bundle.json`` lists both files with their digests (the committed
+    bundles). ``merged``: the merged store (xarray Dataset) read beside the table, which must be
+    the one the table was computed from.
+    """
+    path = Path(path)
+    side = sidecar_of(path)
+    if not side.is_file():
+        raise CustodyError(f"{path}: no provenance record {side.name} beside it, so nothing vouches for it")
+    rec = read_record(side)
+    digest = sha256_file(path)
+    if SEAL in rec:
+        outputs = rec.get(OUTPUTS) if isinstance(rec.get(OUTPUTS), dict) else {}
+        for name in sorted({path.name, *(n for n in outputs if (path.parent / n).is_file())}):
+            # the file, and the others the record describes beside it (summary.md with summary.json)
+            got = digest if name == path.name else sha256_file(path.parent / name)
+            want = outputs.get(name)
+            if want != got:
+                raise CustodyError(
+                    f"{path.parent / name}: SHA-256 {got[:12]} differs from the {(want or 'none')[:12]} that "
+                    f"{side.name} recorded when the file was written (edited or damaged since)"
+                )
+    else:
+        _check_in_bundle(path, side, digest)
+    made_from = rec.get("config", {}).get("merged_sha256_overall") if isinstance(rec.get("config"), dict) else None
+    held = merged_digests(merged) if merged is not None else set()
+    if held and made_from is not None and made_from not in held:
+        raise CustodyError(
+            f"{path}: computed from the merged store {str(made_from)[:12]} ({side.name}) but the store "
+            f"beside it is {min(held)[:12]}"
+        )
+    return rec
+
+
+def _check_in_bundle(path: Path, side: Path, digest: str) -> None:
+    root = path.parent.parent
+    manifest = root / _MANIFEST
+    if not manifest.is_file():
+        raise CustodyError(
+            f"{side}: records no digest of {path.name} (written before custody records, or by hand), "
+            f"so nothing vouches for {path}; move it aside and the metrics rule re-makes it"
+        )
+    try:
+        listed = json.loads(manifest.read_text())["files"]
+        listed = dict(listed)
+    except (OSError, ValueError, KeyError, TypeError) as e:
+        raise CustodyError(f"{manifest}: unreadable ({e})") from None
+    for p, d in ((path, digest), (side, sha256_file(side))):
+        rel = str(p.relative_to(root))
+        if listed.get(rel) != d:
+            raise CustodyError(f"{p}: SHA-256 {d[:12]} differs from {_MANIFEST} (edited or damaged)")
+
+
+def merged_source(ds: Any) -> str:
+    """The digest of the full merged dataset a store holds or was cut from (the same for a run's
+    store and for a bundle's subset of it)."""
+    return ds.attrs.get("subset_of") or ds.attrs["integrity"]["overall"]
+
+
+def merged_digests(ds: Any) -> set[str]:
+    """Digests a merged store answers to: its own, and that of the store it was cut from (a
+    bundle's subset, or a subset of a run that read a bundle's)."""
+    return {d for d in (ds.attrs.get("subset_of"), ds.attrs.get("integrity", {}).get("overall")) if d}

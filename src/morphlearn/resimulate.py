@@ -3,7 +3,6 @@ bit for bit (``morphlearn check-bundle --resimulate``)."""
 
 from __future__ import annotations
 
-import json
 from collections.abc import Iterable
 from pathlib import Path
 
@@ -11,16 +10,17 @@ import numpy as np
 import pandas as pd
 
 from morphlearn import grid as gridmod
-from morphlearn import metrics, store
+from morphlearn import metrics, provenance, store
 from morphlearn.bundle import BundleError
 
 
 def resimulate(out_dir: str | Path, which: Iterable[str] = ("canonical", "best_M_L")) -> list[str]:
     """Re-simulate theory designs of a bundle from its recorded science and compare with it.
 
-    ``which``: ``canonical``, ``best_M_L``, ``best_M_CF`` or a design index. Each design's
-    metrics row (counts per environment, generalists, flagged) and its stored outcome arrays must
-    come out exactly; the problems found are returned (empty: every design agrees). The
+    ``which``: ``canonical``, ``best_M_L``, ``best_M_CF``, a design index, or ``sample:K`` (K
+    designs drawn at random, seed 0, from all rows). Each design's metrics row (counts per
+    environment, generalists, flagged) and, when the bundle holds them, its stored outcome arrays
+    must come out exactly; the problems found are returned (empty: every design agrees). The
     thresholds are the ones the bundle's metrics were computed with (its provenance record).
     """
     from morphlearn.theory import TheoryParams, evaluate
@@ -29,14 +29,16 @@ def resimulate(out_dir: str | Path, which: Iterable[str] = ("canonical", "best_M
     merged = store.open_merged(out_dir / "theory" / "merged.zarr")
     sci = store.science_of(merged)
     table = pd.read_csv(out_dir / "theory" / "metrics.csv")
-    prov = json.loads((out_dir / "theory" / "metrics.provenance.json").read_text())
+    prov = provenance.read_record(out_dir / "theory" / "metrics.provenance.json")
     th = metrics.Thresholds(**prov["config"]["thresholds"])
     g = gridmod.DesignGrid(sci["grid"]["positions_per_axis"])
     params = TheoryParams.from_config(sci["theory"])
-    wanted = [_design_of(w, table, g) for w in which]
+    wanted = [d for w in which for d in _designs_of(w, table, g)]
     held = set(int(d) for d in merged["design"].values)
-    problems = [f"design {d}: not held in {out_dir}/theory/merged.zarr" for d in wanted if d not in held]
-    todo = [d for d in wanted if d in held]
+    # any row of the table, held or not: an edited row of a design whose arrays the bundle does
+    # not hold is caught too (a forger has to re-simulate); the arrays are compared where held
+    problems = [f"design {d}: no row in {out_dir}/theory/metrics.csv" for d in wanted if d not in set(table.design)]
+    todo = sorted({d for d in wanted if d in set(table.design)})
     if not todo:
         return problems
     results = evaluate(g.coords(np.array(todo)), gridmod.weights(sci["grid"]["weights"]), params)
@@ -59,6 +61,8 @@ def resimulate(out_dir: str | Path, which: Iterable[str] = ("canonical", "best_M
             problems.append(
                 f"design {d}: metrics row M_L, M_CF = {row.M_L}, {row.M_CF} but re-simulated {dm.M_L}, {dm.M_CF}"
             )
+        if d not in held:
+            continue
         one = store.read_design(merged, list(merged["design"].values).index(d))
         for v in store.VARS:
             a, b = one[v], getattr(res, v)
@@ -70,11 +74,18 @@ def resimulate(out_dir: str | Path, which: Iterable[str] = ("canonical", "best_M
     return problems
 
 
-def _design_of(which: str, table: pd.DataFrame, g: gridmod.DesignGrid) -> int:
+def _designs_of(which: str, table: pd.DataFrame, g: gridmod.DesignGrid) -> list[int]:
     if which == "canonical":
-        return g.index_of(*gridmod.canonical_design())
+        return [g.index_of(*gridmod.canonical_design())]
     if which in ("best_M_L", "best_M_CF"):
-        return int(metrics.rank_designs(table, which.removeprefix("best_")).design.iloc[0])
+        return [int(metrics.rank_designs(table, which.removeprefix("best_")).design.iloc[0])]
     if which.isdigit():
-        return int(which)
-    raise BundleError(f"re-simulate {which!r}: allowed: canonical, best_M_L, best_M_CF or a design index")
+        return [int(which)]
+    k = which.removeprefix("sample:")
+    if which.startswith("sample:") and k.isdigit() and 0 < int(k) <= len(table):
+        rng = np.random.default_rng(0)
+        return sorted(int(d) for d in rng.choice(table.design.to_numpy(), size=int(k), replace=False))
+    raise BundleError(
+        f"re-simulate {which!r}: allowed: canonical, best_M_L, best_M_CF, a design index or sample:K "
+        f"(1 <= K <= {len(table)})"
+    )

@@ -83,17 +83,47 @@ def write_csv_with_provenance(table: pd.DataFrame, out_csv: str | Path, subset: 
     out_csv = Path(out_csv)
     with store.atomic_path(out_csv) as tmp:
         table.to_csv(tmp, index=False, float_format=metrics.CSV_FLOAT_FORMAT)
-    prov = provenance.record(subset, inputs)
-    with store.atomic_path(out_csv.with_suffix(".provenance.json")) as tmp:
+    # sealed: the table's digest and the record's own, checked by every reader (custody)
+    prov = provenance.seal(provenance.record(subset, inputs), [out_csv])
+    with store.atomic_path(provenance.sidecar_of(out_csv)) as tmp:
         tmp.write_text(json.dumps(prov, indent=1, sort_keys=True) + "\n")
 
 
 def check_render_inputs(paths: list[str]) -> None:
-    """Render-only starts only from complete results: every file present, every merged store's
-    digest record, coordinates and chunk files intact (raises store.IntegrityError naming the
-    first). The figures verify each design's chunks when they read them."""
+    """Render-only starts only from complete, untouched results (raises a ValueError naming the
+    first problem). A bundle (``bundle.json`` beside the results) is checked against its manifest,
+    file by file, chunks included, and row by row; other results: every file present, every
+    table against its provenance record and store, every chunk of every merged store against its
+    digest."""
+    from morphlearn import bundle, bundle_check
+
     for p in sorted(paths):
         if not Path(p).exists():
             raise store.IntegrityError(f"{p}: missing (render_only re-renders from stored results)")
+    bundles = {r for r in {Path(p).parent.parent for p in paths} if (r / bundle.MANIFEST).is_file()}
+    for root in sorted(bundles):
+        problems = bundle_check.check(root)
+        if problems:
+            raise bundle.BundleError(
+                f"{root} does not match its {bundle.MANIFEST} ({len(problems)} problem(s)); nothing was "
+                "rendered:\n  " + "\n  ".join(problems[:10]) + ("\n  ..." if len(problems) > 10 else "")
+            )
+    for p in sorted(paths):
         if p.endswith(".zarr"):
-            store.check_merged_files(p)
+            if Path(p).parent.parent not in bundles:  # a bundle's chunks: checked by their digests above
+                store.verify_merged(p)
+        else:
+            provenance.check_derived(p, store.open_merged(Path(p).with_name("merged.zarr")))
+
+
+def check_custody(tables: list[str | Path], derived: list[str | Path] = ()) -> None:
+    """At the start of a run: every metrics table already there is the one its rule wrote
+    (provenance.CustodyError naming the first edited or damaged one), so no edit flows into the
+    summary, the table, a figure or a bundle; so is every file of ``derived`` (the summary, the
+    reproduction table) that has a record."""
+    for p in tables:
+        if Path(p).is_file():
+            provenance.check_derived(p)
+    for p in derived:
+        if Path(p).is_file() and provenance.sidecar_of(p).is_file():
+            provenance.check_derived(p)

@@ -329,8 +329,9 @@ def _write_store(
 
 def write_subset(src_merged_path: str | Path, designs: Iterable[int], out_path: str | Path) -> str:
     """A merged store holding only the designs (indices of the design grid) ``designs`` of a
-    verified source store: same schema; each chunk's digest re-computed and checked against the
-    source's; ``subset_of`` = the source's overall digest. Returns the subset's overall digest."""
+        verified source store: same schema; each chunk's digest re-computed and checked against the
+        source's; ``subset_of`` = the full dataset's overall digest (the source's, or the one the source
+    was cut from). Returns the subset's overall digest."""
     ds = open_merged(src_merged_path)
     src_int = ds.attrs["integrity"]
     all_designs = ds["design"].values.astype(np.int64)
@@ -348,7 +349,9 @@ def write_subset(src_merged_path: str | Path, designs: Iterable[int], out_path: 
 
     attrs = {k: v for k, v in ds.attrs.items() if k not in ("integrity", "subset_of", "subset_source_designs")}
     attrs |= {
-        "subset_of": src_int["overall"],
+        # the full dataset's digest, also for a subset of a subset (a bundle of a run that read a
+        # bundle): what the metrics tables' records name
+        "subset_of": ds.attrs.get("subset_of", src_int["overall"]),
         "subset_source_designs": int(ds.attrs.get("subset_source_designs", len(all_designs))),
     }
     with atomic_path(out_path) as tmp:

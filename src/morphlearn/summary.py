@@ -4,13 +4,14 @@ registered metric (``summary.json``, ``summary.md``)."""
 from __future__ import annotations
 
 import json
+import os
 from pathlib import Path
 from typing import Any
 
 import pandas as pd
 
 from morphlearn import grid as gridmod
-from morphlearn import metrics, models, store
+from morphlearn import metrics, models, provenance, store
 from morphlearn.settings import Settings
 
 
@@ -39,9 +40,14 @@ def summarise(table: pd.DataFrame, top: int) -> dict[str, Any]:
     return out
 
 
-def run_summary(s: Settings, tables: dict[str, str], out_json: str | Path, out_md: str | Path) -> None:
+def run_summary(
+    s: Settings, tables: dict[str, str], out_json: str | Path, out_md: str | Path, out_prov: str | Path | None = None
+) -> None:
+    """The summary of the models' tables (each checked against its record first); with
+    ``out_prov`` its own sealed record: the tables' digests and the summary's."""
     summary = {"weights": s.grid.weights, "positions_per_axis": s.grid.positions_per_axis}
     for model, path in tables.items():
+        provenance.check_derived(path)  # custody: the table its metrics rule wrote
         t = pd.read_csv(path)
         one = summarise(t, s.analysis.top)
         one["controllers"] = len(models.get(model).weights(s)) ** 2
@@ -50,6 +56,11 @@ def run_summary(s: Settings, tables: dict[str, str], out_json: str | Path, out_m
         tmp.write_text(json.dumps(summary, indent=1, sort_keys=True) + "\n")
     with store.atomic_path(out_md) as tmp:
         tmp.write_text(summary_markdown(summary))
+    if out_prov is not None:
+        rec = provenance.record({"top": s.analysis.top, "models": sorted(tables)}, [])
+        # the tables by their path relative to the summary's folder (the results folder)
+        rec["inputs"] = {os.path.relpath(p, Path(out_json).parent): provenance.sha256_file(p) for p in tables.values()}
+        provenance.write_sealed(out_prov, rec, [out_json, out_md])
 
 
 def _fmt(d: dict[str, Any]) -> str:

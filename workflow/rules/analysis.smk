@@ -34,9 +34,11 @@ rule metrics:
     input:
         f"{R}/{{model}}/merged.zarr",
     output:
-        table=f"{R}/{{model}}/metrics.csv",
+        # update (here and below): a failed or refused rerun leaves the previous valid outputs in
+        # place (Snakemake backs them up instead of deleting them, and restores them on failure).
+        table=update(f"{R}/{{model}}/metrics.csv"),
         provenance=report(
-            f"{R}/{{model}}/metrics.provenance.json",
+            update(f"{R}/{{model}}/metrics.provenance.json"),
             caption="../report/provenance.rst",
             category="Provenance",
         ),
@@ -58,8 +60,10 @@ rule summary:
     input:
         **{m: f"{R}/{m}/metrics.csv" for m in MODELS},
     output:
-        json=f"{R}/summary.json",
-        md=f"{R}/summary.md",
+        json=update(f"{R}/summary.json"),
+        md=update(f"{R}/summary.md"),
+        # custody: the tables' digests and the summary's (provenance.write_sealed)
+        provenance=update(f"{R}/summary.provenance.json"),
     log:
         f"{R}/logs/summary.log",
     benchmark:

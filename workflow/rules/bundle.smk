@@ -7,13 +7,25 @@ localrules:
     bundle,
 
 
+BUNDLE_CONFIGS = [os.path.relpath(f) for f in workflow.configfiles]
+# Before anything runs: bundle_dir may only be absent, empty, or this config's own bundle.
+if workflow.is_main_process:
+    try:
+        bundlemod.check_target(S.bundle_dir, bundlemod.made_by(BUNDLE_CONFIGS, R))
+    except bundlemod.BundleError as err:
+        print(f"morphlearn: {err}", file=sys.stderr)
+        sys.exit(2)
+
+
 rule bundle:
     input:
         FIGURE_TARGETS,
         *(f"{R}/{m}/{n}" for m in MODELS for n in ("metrics.csv", "merged.zarr")),
         summary=f"{R}/summary.md",
     output:
-        directory(S.bundle_dir),
+        # update: Snakemake keeps (and on failure restores) this config's previous bundle instead
+        # of deleting it first; the build writes aside and swaps only when complete.
+        update(directory(S.bundle_dir)),
     log:
         f"{R}/logs/bundle.log",
     benchmark:
@@ -23,6 +35,6 @@ rule bundle:
     params:
         results=R,
         top=S.analysis.top,
-        configs=[os.path.relpath(f) for f in workflow.configfiles],
+        configs=BUNDLE_CONFIGS,
     script:
         "../scripts/bundle.py"

@@ -7,7 +7,8 @@ from pathlib import Path
 import yaml
 
 from morphlearn import config as cfgmod
-from morphlearn import models, results_check, rules, settings
+from morphlearn import bundle as bundlemod
+from morphlearn import models, provenance, results_check, rules, settings
 from morphlearn.learners import experiment as learner_experiment
 from morphlearn.coopt import stage as coopt_stage
 from morphlearn.figures import options as figure_options
@@ -66,6 +67,19 @@ if not S.render_only and workflow.is_main_process and "--unlock" not in sys.argv
                 file=sys.stderr,
             )
             sys.exit(2)
+
+
+# Custody: a metrics table edited or damaged since its rule wrote it stops the run here, before
+# anything is written (the summary, the table and the figures would follow the edit).
+if not S.render_only and workflow.is_main_process and "--unlock" not in sys.argv:
+    try:
+        rules.check_custody(
+            [f"{R}/{m}/metrics.csv" for m in MODELS],
+            [f"{R}/summary.json", f"{R}/reproduction.csv"],
+        )
+    except provenance.CustodyError as err:
+        print(f"morphlearn: {err}; nothing was run", file=sys.stderr)
+        sys.exit(2)
 
 
 def shard_ids(model):

@@ -1,7 +1,8 @@
 # Figures (one papermill notebook each, listed in morphlearn.figures.registry), the reproduction
 # table, and what the report shows. One rule per figure, so that a figure's caption file can be its
 # report caption and editing its notebook, the shared style or a package module it imports (all
-# inputs) re-renders only that figure.
+# inputs) re-renders only that figure. Outputs are update(): Snakemake backs up the previous ones
+# instead of deleting them and restores them when a re-render fails or is refused.
 
 
 localrules:
@@ -20,14 +21,15 @@ for _fig in FIGURES:
             code=figure_modules(_fig),
             data=figure_data(_fig),
         output:
+            # update: a failed or refused re-render keeps the previous figure (module docstring)
             png=report(
-                f"{R}/figures/{_fig}.png",
+                update(f"{R}/figures/{_fig}.png"),
                 caption=str(Path(f"{R}/figures/{_fig}.caption.md").resolve()),
                 category="Figures",
             ),
-            pdf=f"{R}/figures/{_fig}.pdf",
-            caption=f"{R}/figures/{_fig}.caption.md",
-            html=f"{R}/figures/{_fig}.html",
+            pdf=update(f"{R}/figures/{_fig}.pdf"),
+            caption=update(f"{R}/figures/{_fig}.caption.md"),
+            html=update(f"{R}/figures/{_fig}.html"),
         log:
             notebook=f"{R}/logs/figures/{_fig}.ipynb",
             text=f"{R}/logs/figures/{_fig}.log",
@@ -63,14 +65,16 @@ rule reproduction:
         # beyond the paper: the learner stage's correlations, when it runs
         learners=([f"{R}/learners/correlations.csv"] if S.learners.enabled else []),
     output:
-        csv=f"{R}/reproduction.csv",
-        md=f"{R}/reproduction.md",
+        csv=update(f"{R}/reproduction.csv"),
+        md=update(f"{R}/reproduction.md"),
         html=report(
-            f"{R}/reproduction.html",
+            update(f"{R}/reproduction.html"),
             caption="../report/reproduction.rst",
             category="Reproduction",
         ),
-        persistence=f"{R}/persistence.csv",
+        persistence=update(f"{R}/persistence.csv"),
+        # custody: the digests of the tables read and of these files (reproduction.write_record)
+        provenance=update(f"{R}/reproduction.provenance.json"),
     log:
         f"{R}/logs/reproduction.log",
     benchmark:

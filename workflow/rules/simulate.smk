@@ -11,7 +11,8 @@ for _m in SIMULATED:
         input:
             **models.get(_m).inputs(S),
         output:
-            f"{R}/{_m}/shards/shard_{{shard}}.nc",
+            # update: a failed rerun keeps the previous shard (backed up, restored on failure)
+            update(f"{R}/{_m}/shards/shard_{{shard}}.nc"),
         log:
             f"{R}/logs/{_m}/shard_{{shard}}.log",
         benchmark:
@@ -41,9 +42,9 @@ for _m in (m for m in MODELS if models.get(m).results_from(S) is not None):
         input:
             f"{models.get(_m).results_from(S)}/bundle.json",
         output:
-            metrics=f"{R}/{_m}/metrics.csv",
-            provenance=f"{R}/{_m}/metrics.provenance.json",
-            merged=directory(f"{R}/{_m}/merged.zarr"),
+            metrics=update(f"{R}/{_m}/metrics.csv"),
+            provenance=update(f"{R}/{_m}/metrics.provenance.json"),
+            merged=update(directory(f"{R}/{_m}/merged.zarr")),
         log:
             f"{R}/logs/{_m}/from_bundle.log",
         benchmark:

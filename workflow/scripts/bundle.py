@@ -10,4 +10,6 @@ setup(snakemake)  # noqa: F821
 from morphlearn import bundle  # noqa: E402
 
 p = snakemake.params  # noqa: F821
-bundle.build(p.results, snakemake.output[0], top=p.top, made_by=bundle.made_by(list(p.configs), p.results))  # noqa: F821
+made_by = bundle.made_by(list(p.configs), p.results)
+bundle.check_target(snakemake.output[0], made_by)  # noqa: F821  (also checked at the start)
+bundle.build(p.results, snakemake.output[0], top=p.top, made_by=made_by)  # noqa: F821

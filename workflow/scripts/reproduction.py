@@ -15,3 +15,5 @@ table, persistence = reproduction.run(
 )
 reproduction.write(table, out.csv, out.md, out.html)
 persistence.to_csv(out.persistence, index=False)
+learners = [f"{s.results_dir}/learners/correlations.csv"] if p.learners else []
+reproduction.write_record(s.results_dir, list(p.thresholds), [out.csv, out.md, out.html, out.persistence], learners)

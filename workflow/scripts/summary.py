@@ -10,4 +10,5 @@ s = setup(snakemake)  # noqa: F821
 from morphlearn import summary  # noqa: E402
 
 tables = dict(snakemake.input.items())  # noqa: F821
-summary.run_summary(s, tables, snakemake.output.json, snakemake.output.md)  # noqa: F821
+out = snakemake.output  # noqa: F821
+summary.run_summary(s, tables, out.json, out.md, out.provenance)

@@ -7,13 +7,13 @@ summaries.
 
 from __future__ import annotations
 
-import json
 from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
 import pandas as pd
 
+from morphlearn import provenance
 from morphlearn.figures.data import ModelResults, design_label, row_design
 from morphlearn.provenance import sha256_file
 
@@ -25,8 +25,9 @@ def _short(h: str | None) -> str:
 
 
 def _provenance_record(res: ModelResults) -> dict[str, Any]:
-    p = Path(res.paths["metrics"]).with_suffix(".provenance.json")
-    return json.loads(p.read_text()) if p.is_file() else {}
+    # quoted in the caption as fact: its seal (or the bundle's manifest) is checked here first
+    provenance.check_derived(res.paths["metrics"])
+    return provenance.read_record(provenance.sidecar_of(res.paths["metrics"]))
 
 
 def science_summary(res: ModelResults) -> str:

@@ -21,7 +21,7 @@ import pandas as pd
 import xarray as xr
 
 from morphlearn import grid as gridmod
-from morphlearn import metrics, store
+from morphlearn import metrics, provenance, store
 from morphlearn.theory.reference import ReferenceTrajectory, reference_trajectory
 
 Point = tuple[float, float]
@@ -147,8 +147,10 @@ def load_results(
     table_path, merged_path = base / "metrics.csv", base / "merged.zarr"
     if not table_path.is_file() or not merged_path.exists():
         return None
-    table = pd.read_csv(table_path)
     ds = store.open_merged(merged_path)  # verifies the coordinates; read_design the chunks
+    # custody: the table is the one its record names, computed from this store
+    provenance.check_derived(table_path, ds)
+    table = pd.read_csv(table_path)
     return ModelResults(
         model, table, ds, thresholds_from(thresholds), {"metrics": str(table_path), "merged": str(merged_path)}
     )

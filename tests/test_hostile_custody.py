@@ -1,0 +1,532 @@
+"""Issue 24, parts 1-3 attacked: the chain of custody from the simulation to the figure, nothing
+good destroyed, and a forger who has to re-simulate. Each attack is one parameter; an attack is
+"refused cleanly" when it stops with the documented exit code, names the file and writes nothing.
+
+The workflow attacks run on a private copy of the shared smoke run (refused runs stop while the
+workflow is parsed: about three seconds each); the bundle attacks on copies of a bundle of that
+run and of the committed paper bundle."""
+
+from __future__ import annotations
+
+import contextlib
+import io
+import json
+import os
+import shutil
+import subprocess
+from collections.abc import Callable
+from pathlib import Path
+
+import pandas as pd
+import pytest
+from conftest import ROOT, snakemake
+
+from morphlearn import bundle, bundle_check, cli, metrics, provenance, resimulate, rules
+from morphlearn.figures import caption, data
+
+SMOKE = ("--configfile", "config/smoke.yaml")
+PAPER = ROOT / "results" / "paper"
+
+
+def _refusal(proc: subprocess.CompletedProcess) -> str:
+    """The run's own message: its first line from morphlearn (Snakemake's notices come first)."""
+    return next((ln for ln in proc.stderr.splitlines() if ln.startswith("morphlearn: ")), proc.stderr[-2000:])
+
+
+def _snapshot(root: Path) -> dict[str, tuple[int, bytes]]:
+    """Every file under ``root`` (but Snakemake's own records): mtime and bytes."""
+    return {
+        str(p.relative_to(root)): (p.stat().st_mtime_ns, p.read_bytes())
+        for p in sorted(root.rglob("*"))
+        if p.is_file() and ".snakemake" not in p.parts
+    }
+
+
+@pytest.fixture(scope="module")
+def run(smoke_run: Path, tmp_path_factory: pytest.TempPathFactory) -> Path:
+    """A private copy of the smoke run (its .snakemake records too), and a bundle of it."""
+    wd = tmp_path_factory.mktemp("hostile") / "wd"
+    shutil.copytree(smoke_run, wd, symlinks=True, ignore=shutil.ignore_patterns("bundle", "report.html"))
+    made = bundle.made_by(["config/smoke.yaml", "config.yaml"], "results")
+    bundle.build(wd / "results", wd / "smoke-bundle", top=3, made_by=made)
+    return wd
+
+
+def _csv_edit(path: Path, design: int | None = None, **values: float) -> int:
+    """Change one row of a metrics table (the first, or ``design``); the design edited."""
+    t = pd.read_csv(path)
+    d = int(t.design.iloc[0] if design is None else design)
+    for k, v in values.items():
+        t.loc[t.design == d, k] = v
+    t.to_csv(path, index=False, float_format=metrics.CSV_FLOAT_FORMAT)
+    return d
+
+
+def _json_edit(path: Path, change: Callable[[dict], None]) -> None:
+    rec = json.loads(path.read_text())
+    change(rec)
+    path.write_text(json.dumps(rec, indent=1, sort_keys=True) + "\n")
+
+
+def _reseal_manifest(b: Path, *rels: str) -> None:
+    """What a forger does after editing files of a bundle: put their new SHA-256 in bundle.json."""
+    _json_edit(b / bundle.MANIFEST, lambda m: m["files"].update({r: provenance.sha256_file(b / r) for r in rels}))
+
+
+# One example of each class runs the workflow end to end (one Snakemake start each, about 5 CPU
+# seconds); the other examples and the variants call in process what the workflow calls at its
+# start (rules.check_custody, rules.check_render_inputs, bundle.check_target): milliseconds.
+
+# -- 1. custody in a run: an edited table or record stops the rerun before anything runs ------
+
+
+def _edit_generalists(r: Path) -> str:
+    """The issue's example: a design's generalists turned into M_L = 1."""
+    _csv_edit(r / "theory/metrics.csv", generalists=25, M_L=1.0, M_CF=1.0)
+    return "theory/metrics.csv: SHA-256"
+
+
+def _fake_commit(r: Path) -> str:
+    """The issue's example: a fake commit in the record the captions quote."""
+    _json_edit(r / "theory/metrics.provenance.json", lambda p: p.update(git_commit="0" * 40))
+    return "metrics.provenance.json: edited or damaged"
+
+
+def _fake_store_hash(r: Path) -> str:
+    def change(p: dict) -> None:
+        p["config"]["merged_sha256_overall"] = "f" * 64
+        p["inputs"] = {k: "f" * 64 for k in p["inputs"]}
+
+    _json_edit(r / "empirical/metrics.provenance.json", change)
+    return "empirical/metrics.provenance.json: edited or damaged"
+
+
+def _reseal_outputs_only(r: Path) -> str:
+    """A forger edits the table and writes its new digest into the record (not the seal)."""
+    t = r / "theory/metrics.csv"
+    _csv_edit(t, generalists=7)
+    _json_edit(r / "theory/metrics.provenance.json", lambda p: p["outputs"].update({t.name: provenance.sha256_file(t)}))
+    return "metrics.provenance.json: edited or damaged"
+
+
+def _reseal_everything(r: Path) -> str:
+    """A forger who re-seals the record too: the table no longer matches the store it names."""
+    t = r / "theory/metrics.csv"
+    _csv_edit(t, generalists=7)
+    side = r / "theory/metrics.provenance.json"
+    rec = json.loads(side.read_text())
+    rec["config"]["merged_sha256_overall"] = "e" * 64
+    provenance.write_sealed(side, rec, [t])
+    return "computed from the merged store eeeeeeeeeeee"
+
+
+def _record_removed(r: Path) -> str:
+    (r / "theory/metrics.provenance.json").unlink()
+    return "theory/metrics.csv: no provenance record"
+
+
+def _unsealed_record(r: Path) -> str:
+    _json_edit(r / "theory/metrics.provenance.json", lambda p: [p.pop(k) for k in ("outputs", provenance.SEAL)])
+    return "records no digest of metrics.csv"
+
+
+def _summary_edited(r: Path) -> str:
+    """A sentence added to the summary (summary.json untouched)."""
+    md = r / "summary.md"
+    md.write_text(md.read_text() + "\nThe canonical design is the best of all.\n")
+    return "summary.md: SHA-256"
+
+
+def _reproduction_edited(r: Path) -> str:
+    (r / "reproduction.csv").write_text((r / "reproduction.csv").read_text() + "forged,row\n")
+    return "reproduction.csv: SHA-256"
+
+
+@pytest.mark.parametrize(
+    ("attack", "end_to_end"),
+    [
+        (_edit_generalists, True),
+        (_fake_commit, False),
+        (_fake_store_hash, False),
+        (_reseal_outputs_only, False),
+        (_record_removed, False),
+        (_unsealed_record, False),
+        (_summary_edited, False),
+        (_reproduction_edited, False),
+    ],
+)
+def test_rerun_refuses_edited_results(run: Path, attack: Callable[[Path], str], end_to_end: bool) -> None:
+    r = run / "results"
+    keep = {p: p.read_bytes() for p in [*r.glob("*/metrics*"), *r.glob("summary.*"), *r.glob("reproduction.*")]}
+    try:
+        want = attack(r)
+        before = _snapshot(r)
+        if end_to_end:
+            proc = snakemake(run, "--cores", "1", *SMOKE, check=False)
+            assert proc.returncode == 2, proc.stderr[-2000:]
+            first = _refusal(proc)
+            assert want in first and "nothing was run" in first, first
+        else:
+            with pytest.raises(provenance.CustodyError) as err:
+                rules.check_custody(
+                    [r / m / "metrics.csv" for m in ("theory", "empirical")],
+                    [r / "summary.json", r / "reproduction.csv"],
+                )
+            assert want in str(err.value), err.value
+        assert _snapshot(r) == before  # nothing written, nothing deleted
+    finally:
+        for p, b in keep.items():
+            p.write_bytes(b)
+
+
+def test_a_resealed_record_must_name_the_store_read_beside_it(run: Path) -> None:
+    """A forger who re-seals the record after editing the table passes the start check (the
+    record is whole), but the figures and the table read the table beside its store, and the
+    store's digest is not the one the record names."""
+    r = run / "results"
+    keep = {p: p.read_bytes() for p in r.glob("theory/metrics*")}
+    try:
+        want = _reseal_everything(r)
+        with pytest.raises(provenance.CustodyError, match=want):
+            data.require_results(r, "theory")
+    finally:
+        for p, b in keep.items():
+            p.write_bytes(b)
+
+
+def test_caption_refuses_an_edited_record(run: Path) -> None:
+    """Where the record is quoted (a caption's data paragraph), its seal is checked first."""
+    r = run / "results"
+    res = data.require_results(r, "theory")
+    assert "git commit test" in caption.provenance_md([res])
+    side = r / "theory/metrics.provenance.json"
+    keep = side.read_bytes()
+    try:
+        _fake_commit(r)
+        with pytest.raises(provenance.CustodyError, match="edited or damaged"):
+            caption.provenance_md([res])
+    finally:
+        side.write_bytes(keep)
+
+
+# -- 1. render-only verifies the bundle first --------------------------------------------------
+
+
+def _row_changed(b: Path) -> str:
+    """The issue's example: one metrics row of a bundle changed."""
+    _csv_edit(b / "theory/metrics.csv", generalists=7)
+    return "theory/metrics.csv: checksum differs from bundle.json"
+
+
+def _chunk_flipped(b: Path) -> str:
+    """The issue's example: a flipped byte in a chunk no figure draws."""
+    held = json.loads((b / bundle.MANIFEST).read_text())["subsets"]["theory"]["designs"]
+    chunk = b / f"theory/merged.zarr/min_dist/c/{len(held) - 1}/0/0/0"
+    raw = bytearray(chunk.read_bytes())
+    raw[len(raw) // 2] ^= 0x01
+    chunk.write_bytes(bytes(raw))
+    return f"merged.zarr/min_dist/c/{len(held) - 1}/0/0/0: checksum differs"
+
+
+def _forged_manifest(b: Path) -> str:
+    """The issue's forger: edits a row, then its SHA-256 in bundle.json (generalists 740)."""
+    _csv_edit(b / "theory/metrics.csv", generalists=740)
+    _reseal_manifest(b, "theory/metrics.csv")
+    return "generalists above an environment's count"
+
+
+def _stray_log(b: Path) -> str:
+    (b / "logs").mkdir(exist_ok=True)
+    (b / "logs/notes.txt").write_text("not made by a render\n")
+    return "logs/notes.txt: not listed in bundle.json"
+
+
+def _provenance_edited_in_bundle(b: Path) -> str:
+    _json_edit(b / "theory/metrics.provenance.json", lambda p: p.update(git_commit="0" * 40))
+    return "metrics.provenance.json: checksum differs"
+
+
+def _manifest_unreadable(b: Path) -> str:
+    (b / bundle.MANIFEST).write_text('{"files": ')
+    return "bundle.json: unreadable"
+
+
+@pytest.mark.parametrize(
+    ("attack", "end_to_end"),
+    [
+        (_row_changed, True),
+        (_chunk_flipped, False),
+        (_forged_manifest, False),
+        (_stray_log, False),
+        (_provenance_edited_in_bundle, False),
+        (_manifest_unreadable, False),
+    ],
+)
+def test_render_only_refuses_a_damaged_bundle(run: Path, attack: Callable[[Path], str], end_to_end: bool) -> None:
+    b = run / "results" / "attacked"
+    shutil.rmtree(b, ignore_errors=True)
+    shutil.copytree(run / "smoke-bundle", b)
+    want = attack(b)
+    before = _snapshot(b)
+    if end_to_end:
+        proc = snakemake(
+            run, "--cores", "1", *SMOKE, "--config", "render_only=True", "results_dir=results/attacked", check=False
+        )
+        assert proc.returncode == 2, proc.stderr[-2000:]
+        first = _refusal(proc)
+        assert first.startswith("morphlearn: render_only: ") and "nothing was rendered" in first, first
+        assert want in proc.stderr, proc.stderr[-2000:]
+    else:
+        with pytest.raises(ValueError) as err:
+            rules.check_render_inputs(
+                [f"{b}/{m}/{n}" for m in ("theory", "empirical") for n in ("metrics.csv", "merged.zarr")]
+            )
+        assert want in str(err.value), err.value
+    assert _snapshot(b) == before  # no figure, log or benchmark written
+
+
+# -- 2. bundle_dir writes only where it may ----------------------------------------------------
+
+
+def _docs(wd: Path) -> str:
+    return "docs"
+
+
+def _readme(wd: Path) -> str:
+    (wd / "README.md").write_text("# the project's readme\n")
+    return "README.md"
+
+
+def _committed_paper(wd: Path) -> str:
+    (wd / "results/paper").mkdir(exist_ok=True)
+    shutil.copy2(PAPER / bundle.MANIFEST, wd / "results/paper" / bundle.MANIFEST)
+    (wd / "results/paper/README.md").write_text("committed\n")
+    return "results/paper"
+
+
+def _project_root(wd: Path) -> str:
+    return "."
+
+
+def _results_folder(wd: Path) -> str:
+    return "results"
+
+
+def _link_to_docs(wd: Path) -> str:
+    (wd / "docs-link").unlink(missing_ok=True)
+    os.symlink("docs", wd / "docs-link")
+    return "docs-link"
+
+
+@pytest.mark.parametrize(
+    ("target", "end_to_end"),
+    [
+        (_docs, True),
+        (_readme, False),
+        (_committed_paper, True),
+        (_project_root, False),
+        (_results_folder, False),
+        (_link_to_docs, False),
+    ],
+)
+def test_bundle_dir_refuses_what_it_did_not_make(
+    run: Path, target: Callable[[Path], str], end_to_end: bool, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    (run / "docs").mkdir(exist_ok=True)
+    (run / "docs/index.md").write_text("documentation\n")
+    name = target(run)
+    before = _snapshot(run / "docs") | _snapshot(run / "results")
+    if end_to_end:
+        proc = snakemake(run, "bundle", "--cores", "1", *SMOKE, "--config", f"bundle_dir={name}", check=False)
+        assert proc.returncode == 2, proc.stderr[-2000:]
+        first = _refusal(proc).removeprefix("morphlearn: ")
+    else:
+        monkeypatch.chdir(run)
+        with pytest.raises(bundle.BundleError) as err:
+            bundle.check_target(name, bundle.made_by(["config/smoke.yaml", "config.yaml"], "results"))
+        first = str(err.value)
+    assert first.startswith(f"bundle_dir = '{name}' ") and "nothing was written" in first, first
+    assert not any(w in first.lower() for w in ("delete", "remove", "rm ")), first
+    assert _snapshot(run / "docs") | _snapshot(run / "results") == before
+
+
+def test_config_slip_cannot_overwrite_the_paper_bundle(run: Path) -> None:
+    """``--configfile config/paper.yaml config/smoke.yaml`` names bundle_dir results/paper."""
+    _committed_paper(run)
+    before = _snapshot(run / "results/paper")
+    proc = snakemake(
+        run, "bundle", "-n", "--cores", "1", "--configfile", "config/paper.yaml", "config/smoke.yaml", check=False
+    )
+    assert proc.returncode == 2 and "bundle_dir = 'results/paper' holds a bundle made by configs" in proc.stderr
+    assert _snapshot(run / "results/paper") == before
+
+
+def test_bundle_dir_allows_an_absent_folder_and_its_own_bundle(run: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    # (also the positive control of the start-up custody check: the untouched run passes it; an
+    # intact bundle passing render-only's check: tests/test_bundle.py renders one)
+    proc = snakemake(run, "bundle", "-n", "--cores", "1", *SMOKE, "--config", "bundle_dir=results/new-bundle")
+    assert "morphlearn:" not in proc.stderr and "rule bundle" in proc.stdout + proc.stderr
+    own = run / "results" / "own"
+    shutil.copytree(run / "smoke-bundle", own, dirs_exist_ok=True)
+    monkeypatch.chdir(run)
+    bundle.check_target("results/own", bundle.made_by(["config/smoke.yaml", "config.yaml"], "results"))
+    (run / "results/empty").mkdir(exist_ok=True)
+    bundle.check_target("results/empty", bundle.made_by(["config/smoke.yaml", "config.yaml"], "results"))
+
+
+# -- 2. a failed rerun keeps the previous valid outputs ----------------------------------------
+
+
+def test_failed_reruns_keep_previous_outputs(run: Path) -> None:
+    """A damaged chunk makes the metrics rerun and the re-render of Fig. 6 fail (they verify
+    every chunk they read): the previous table, its record and the figure stay, byte for byte."""
+    r = run / "results"
+    keep = ["theory/metrics.csv", "theory/metrics.provenance.json", "figures/fig6.png", "figures/fig6.caption.md"]
+    before = {k: (r / k).read_bytes() for k in keep}
+    chunks = sorted((r / "theory/merged.zarr/first_time/c").rglob("0"))
+    saved = {p: p.read_bytes() for p in chunks if p.is_file()}
+    try:
+        for p, b in saved.items():  # every design's chunk, so the canonical one Fig. 6 draws too
+            raw = bytearray(b)
+            raw[len(raw) // 2] ^= 0x01
+            p.write_bytes(bytes(raw))
+        # the figure first: its inputs stay older than it, so only it re-runs (forced); then the metrics
+        for rule in ("figure_fig6", "metrics"):
+            proc = snakemake(run, "--cores", "1", *SMOKE, "--forcerun", rule, check=False)
+            out = proc.stdout + proc.stderr
+            assert proc.returncode == 1 and f"Error in rule {rule}" in out, out[-3000:]
+            assert "Restored previous version" in out
+            assert {k: (r / k).read_bytes() for k in keep} == before, rule
+    finally:
+        for p, b in saved.items():
+            p.write_bytes(b)
+
+
+# -- 3. check-bundle: a forger has to re-simulate ----------------------------------------------
+
+
+def _cli(*args: str) -> tuple[int, str]:
+    buf = io.StringIO()
+    with contextlib.redirect_stdout(buf):
+        rc = cli.main(["check-bundle", *args])
+    return rc, buf.getvalue()
+
+
+@pytest.fixture
+def paper_copy(tmp_path: Path) -> Path:
+    b = tmp_path / "paper"
+    shutil.copytree(PAPER, b, ignore=shutil.ignore_patterns("logs", "benchmarks", "*.html", ".snakemake*"))
+    for name in ("reproduction.html",):  # listed in the manifest, so copied back
+        shutil.copy2(PAPER / name, b / name)
+    return b
+
+
+def _generalists_740(b: Path) -> str:
+    """The issue's example: generalists 740 beside M_L = 240/14641, the manifest updated."""
+    t = pd.read_csv(b / "theory/metrics.csv")
+    d = int(t.design[t.generalists == 240].iloc[0])
+    _csv_edit(b / "theory/metrics.csv", d, generalists=740)
+    _reseal_manifest(b, "theory/metrics.csv")
+    return f"design {d}"
+
+
+def _m_cf_forged(b: Path) -> str:
+    _csv_edit(b / "theory/metrics.csv", 5, M_CF=0.5)
+    _reseal_manifest(b, "theory/metrics.csv")
+    return "M_CF != generalists / at_least_one"
+
+
+def _at_least_one_below_env(b: Path) -> str:
+    t = pd.read_csv(b / "empirical/metrics.csv")
+    _csv_edit(b / "empirical/metrics.csv", int(t.design[t.n_45 > 0].iloc[0]), at_least_one=0, M_CF=0.0)
+    _reseal_manifest(b, "empirical/metrics.csv")
+    return "an environment's count above at_least_one"
+
+
+def _path_outside(b: Path) -> str:
+    _json_edit(b / bundle.MANIFEST, lambda m: m["files"].update({"../../etc/hostname": "0" * 64}))
+    return "'../../etc/hostname', a path outside the bundle (not read)"
+
+
+def _absolute_path(b: Path) -> str:
+    _json_edit(b / bundle.MANIFEST, lambda m: m["files"].update({"/etc/hostname": "0" * 64}))
+    return "'/etc/hostname', a path outside the bundle"
+
+
+def _link_out(b: Path) -> str:
+    os.symlink("/etc/hostname", b / "theory/hostname")
+    _json_edit(b / bundle.MANIFEST, lambda m: m["files"].update({"theory/hostname": "0" * 64}))
+    return "'theory/hostname', a path outside the bundle"
+
+
+def _stray(rel: str) -> Callable[[Path], str]:
+    def attack(b: Path) -> str:
+        (b / rel).parent.mkdir(parents=True, exist_ok=True)
+        (b / rel).write_text("stray\n")
+        return f"{rel}: not listed in bundle.json"
+
+    attack.__name__ = f"stray {rel}"
+    return attack
+
+
+def _shape(text: str | bytes) -> Callable[[Path], str]:
+    def attack(b: Path) -> str:
+        m = b / bundle.MANIFEST
+        m.write_bytes(text if isinstance(text, bytes) else text.encode())
+        return "bundle.json: "
+
+    attack.__name__ = f"manifest {text!r:.20}"
+    return attack
+
+
+@pytest.mark.parametrize(
+    "attack",
+    [
+        _generalists_740,
+        _m_cf_forged,
+        _at_least_one_below_env,
+        _path_outside,
+        _absolute_path,
+        _link_out,
+        *(
+            _stray(r)
+            for r in ("logs/x.log", "benchmarks/x.tsv", ".snakemake_x", "figures/fig9.html", "figures/evil.html")
+        ),
+        *(_shape(t) for t in ("[]", '{"files": []}', '{"files": {"summary.md": 1}}', "null", b"\xff\xfe\x00")),
+    ],
+    ids=lambda f: f.__name__,
+)
+def test_check_bundle_refuses(paper_copy: Path, attack: Callable[[Path], str]) -> None:
+    want = attack(paper_copy)
+    rc, out = _cli(str(paper_copy))
+    assert rc == 1 and want in out, out
+    assert "Traceback" not in out
+
+
+def test_check_bundle_accepts_the_committed_bundles() -> None:
+    for name in ("paper", "survey", "scenario-set"):
+        assert bundle_check.check(ROOT / "results" / name) == [], name
+
+
+def test_a_consistent_forgery_of_a_row_not_held_needs_resimulation(run: Path, tmp_path: Path) -> None:
+    """Edited counts that keep every row consistent, of a design whose arrays the bundle does not
+    hold, the manifest updated: only re-simulating that row catches it."""
+    b = tmp_path / "forged"
+    shutil.copytree(run / "smoke-bundle", b)
+    held = set(json.loads((b / bundle.MANIFEST).read_text())["subsets"]["theory"]["designs"])
+    t = pd.read_csv(b / "theory/metrics.csv")
+    row = t[~t.design.isin(held) & (t.generalists == 0) & (t.at_least_one > 0)].iloc[0]
+    d = int(row.design)
+    _csv_edit(b / "theory/metrics.csv", d, n_45=row.n_45 + 1, at_least_one=max(row.at_least_one, row.n_45 + 1))
+    t = pd.read_csv(b / "theory/metrics.csv")
+    _csv_edit(b / "theory/metrics.csv", d, M_CF=0.0)
+    _reseal_manifest(b, "theory/metrics.csv")
+    assert bundle_check.check(b) == []  # consistent in itself
+    rc, out = _cli(str(b), "--resimulate", str(d))
+    assert rc == 1 and f"design {d}: metrics row" in out, out
+
+
+def test_a_sample_of_paper_rows_resimulates_exactly() -> None:
+    """Two rows of the committed paper bundle drawn at random (seed 0), held or not, re-simulated
+    at paper resolution (121 x 121 weights, 4 environments)."""
+    assert resimulate.resimulate(PAPER, ["sample:2"]) == []
