@@ -128,7 +128,9 @@ def test_selection_rule_prefers_robust_cheapest_full_success() -> None:
     ]
     rows = []
     for i, (n, act, feas, front) in enumerate(spec):
-        row = {k: 1.0 + i for k in VARIABLES}
+        # bodies told apart by their mass (the robustness stubs below read it); the other
+        # variables stay physical (a wheel radius of 6 would start the robot touching the light)
+        row = {k: 1.0 for k in VARIABLES} | {"body_mass": 1.0 + i}
         row.update(n_success=n, f_actuation=act, f_distance=1.0, feasible=feas, pareto=front)
         rows.append(row)
     table = pd.DataFrame(rows)
