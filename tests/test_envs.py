@@ -149,7 +149,10 @@ def test_each_env_runs_its_rules(tmp_path: Path) -> None:
         # run are the step's own rules, since earlier steps made everything upstream.
         ran = run(env, *SCENARIOS, "--until", *until)
         assert set(ran) - {"scenarios", "all"} == set(rules), (env, ran)
-    (wd / "reader.yaml").write_text("results_dir: results/reader\nempirical:\n  results_from: results/bundle\n")
+    # reads results/bundle, so it must not bundle into it too (bundle_dir refuses another config's bundle)
+    (wd / "reader.yaml").write_text(
+        "results_dir: results/reader\nbundle_dir: null\nempirical:\n  results_from: results/bundle\n"
+    )
     env, rules, targets = READER_STEP
     assert run(env, *targets, "--allowed-rules", *rules, configs=(*CONFIGS, "reader.yaml")) == {rules[0]: 1}
     # Together the environments made the workflow: the main environment has nothing left to do

@@ -16,7 +16,9 @@ CORE = ["numpy", "scipy", "numba", "xarray", "zarr", "pandas", "pyyaml", "jsonsc
 ENVS = {
     "theory": [*CORE, "numba-cuda"],  # numba-cuda: the GPU backend (theory.backend)
     "analysis": CORE,  # merge, metrics, summary
-    "learners": [*CORE, "cma"],  # learners_shard, learners_analysis (CMA-ES of the cma package)
+    # learners_shard, learners_analysis (CMA-ES of the cma package); the coopt rules (matplotlib:
+    # coopt_analysis draws its figure)
+    "learners": [*CORE, "cma", "matplotlib"],
     # empirical_shard; optimise_morphology (pymoo's NSGA-II, matplotlib for its Pareto plot)
     # mujoco: the second empirical model (morphlearn.mujoco), beside pybullet
     "empirical": [*CORE, "pybullet", "mujoco", "pymoo", "matplotlib"],

@@ -32,7 +32,8 @@ def bodies(runs: pd.DataFrame) -> pd.DataFrame:
     largest budget and the sequential runs at every budget), with whether the run reached a
     generalist."""
     co = runs[runs.setup.isin(["c", "d"])].copy()
-    x = np.array([[float(v) for v in str(s).split()[:4]] for s in co.x])  # positions come first
+    # positions come first; (0, 4) when no co-optimised setup ran (a config of fixed bodies only)
+    x = np.array([[float(v) for v in str(s).split()[:4]] for s in co.x]).reshape(len(co), 4)
     for i, c in enumerate(("l1x", "l1y", "l2x", "l2y")):
         co[c] = 0.5 * x[:, i]
     return co.drop(columns=["x"])
