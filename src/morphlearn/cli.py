@@ -76,19 +76,7 @@ def cmd_design(a: argparse.Namespace) -> int:
     for name in POSITIVE:
         _positive(f"--{name}", getattr(a, name))
     model = models.get(a.model)
-    if a.model == "theory":  # the config's rule (settings.check_theory), with the CLI's defaults
-        from morphlearn.settings import check_theory
-        from morphlearn.theory.plugin import CLI_HORIZON, CLI_R, CLI_RADIUS
-
-        th = {
-            "r": CLI_R if a.r is None else a.r,
-            "horizon": CLI_HORIZON if a.horizon is None else a.horizon,
-            "success_radius": CLI_RADIUS,
-            "integrator": "dp5" if a.dt is None else "rk4",
-            "dt": a.dt,
-        }
-        flags = {"r": "--r", "horizon": "--horizon", "dt": "--dt"}
-        check_theory(th, flags.get)
+    model.check_cli(a)
     # another model's options are refused rather than silently ignored
     others = {o: n for n, m in models.MODELS.items() for o in m.cli_options if o not in model.cli_options}
     given = [o for o in others if getattr(a, o) is not None]

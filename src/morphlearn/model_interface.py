@@ -126,6 +126,11 @@ class Model(ABC):
         """One sentence for captions: the settings a dataset was made with (from its record)."""
 
     # -- the command line (``morphlearn design``) ---------------------------------------------------
+    def check_cli(self, a: argparse.Namespace) -> None:
+        """Refuse physically meaningless options (raise ``cli.UsageError``); the config's rule where
+        the model has one. By default nothing beyond the CLI's range checks."""
+        return None
+
     @abstractmethod
     def evaluate_one(
         self, l1: tuple[float, float], l2: tuple[float, float], w: np.ndarray, a: argparse.Namespace

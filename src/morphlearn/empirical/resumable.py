@@ -62,10 +62,6 @@ CHUNK_VARS: dict[str, np.dtype] = {
 _ZIP_DATE = (1980, 1, 1, 0, 0, 0)  # fixed, so a chunk's bytes depend on its numbers only
 
 
-#: Engines a folder can be computed with.
-ENGINES = ("pybullet", "mujoco")
-
-
 class RefineError(Exception):
     """A bad input or a folder that belongs to another run."""
 
@@ -111,28 +107,12 @@ class Job:
             "params": self.params.to_dict(),
             "levers": self.options.science(),
             "chunk": "one w1 row: all 4 environments x all w2",
-            **self._engine_identity(),
+            **ENGINES[self.engine].identity(),
         }
-
-    def _engine_identity(self) -> dict[str, Any]:
-        # pybullet's entry is what it was before MuJoCo existed, so its folders keep their run keys
-        if self.engine == "pybullet":
-            return {"pybullet": provenance.library_versions().get("pybullet", "unknown")}
-        import mujoco
-
-        from morphlearn.mujoco import MujocoSettings
-
-        return {"engine": "mujoco", "mujoco": mujoco.__version__, "mujoco_settings": asdict(MujocoSettings())}
 
     def runner(self) -> Any:
         """The engine's episode runner (a context manager)."""
-        if self.engine == "pybullet":
-            from morphlearn.empirical.episode import EpisodeRunner
-
-            return EpisodeRunner(self.params)
-        from morphlearn.mujoco import BatchRunner
-
-        return nullcontext(BatchRunner(self.params))
+        return ENGINES[self.engine].runner(self.params)
 
     def run_key(self) -> str:
         return digest(self.identity())
@@ -304,9 +284,12 @@ def verified_rows(
 
 def compute_row(runner: Any, job: Job, row: int) -> dict[str, np.ndarray]:
     """All 4 x m episodes of w1 row ``row``: the per-cell call of ``evaluate_design``."""
+    return ENGINES[job.engine].row(runner, job, row)
+
+
+def _pybullet_row(runner: Any, job: Job, row: int) -> dict[str, np.ndarray]:
+    """The row's 4 x m episodes one by one, as ``evaluate_design`` calls them."""
     w, m, opt = job.weights, job.m, job.options
-    if job.engine == "mujoco":
-        return _mujoco_row(runner, job, row)
     out = {
         k: np.zeros((4, m), dtype=np.float64 if k in ("first_time", "min_dist") else dt) for k, dt in CHUNK_VARS.items()
     }
@@ -339,6 +322,54 @@ def _mujoco_row(runner: Any, job: Job, row: int) -> dict[str, np.ndarray]:
         "steps": ep.steps,
     }
     return {k: np.asarray(out[k]).reshape(4, m).astype(dt) for k, dt in CHUNK_VARS.items()}
+
+
+# ---------------------------------------------------------------- engines
+
+
+def _pybullet_identity() -> dict[str, Any]:
+    # pybullet's entry is what it was before MuJoCo existed, so its folders keep their run keys
+    return {"pybullet": provenance.library_versions().get("pybullet", "unknown")}
+
+
+def _pybullet_runner(params: EmpiricalParams) -> Any:
+    from morphlearn.empirical.episode import EpisodeRunner
+
+    return EpisodeRunner(params)
+
+
+def _mujoco_identity() -> dict[str, Any]:
+    import mujoco
+
+    from morphlearn.mujoco import MujocoSettings
+
+    return {"engine": "mujoco", "mujoco": mujoco.__version__, "mujoco_settings": asdict(MujocoSettings())}
+
+
+def _mujoco_runner(params: EmpiricalParams) -> Any:
+    from morphlearn.mujoco import BatchRunner
+
+    return nullcontext(BatchRunner(params))
+
+
+@dataclass(frozen=True)
+class Engine:
+    """How a folder's rows are computed in one physics engine."""
+
+    #: What the run key records about the engine (its version and settings).
+    identity: Callable[[], dict[str, Any]]
+    #: The episode runner for a body (a context manager).
+    runner: Callable[[EmpiricalParams], Any]
+    #: One w1 row's 4 x m episodes.
+    row: Callable[[Any, Job, int], dict[str, np.ndarray]]
+
+
+#: Engines a folder can be computed with (``pybullet`` is the reference engine; ``mujoco`` runs
+#: with its default ``MujocoSettings``).
+ENGINES: dict[str, Engine] = {
+    "pybullet": Engine(_pybullet_identity, _pybullet_runner, _pybullet_row),
+    "mujoco": Engine(_mujoco_identity, _mujoco_runner, _mujoco_row),
+}
 
 
 def _row_generalists(chunk: dict[str, np.ndarray], th: metrics.Thresholds) -> int:

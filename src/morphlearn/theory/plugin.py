@@ -136,6 +136,20 @@ class Theory(Model):
             f"{th.get('max_steps')}, mirror symmetry {science.get('mirror_symmetry')}"
         )
 
+    def check_cli(self, a: argparse.Namespace) -> None:
+        # the config's rule (settings.check_theory), with the CLI's defaults
+        from morphlearn.settings import check_theory
+
+        th = {
+            "r": CLI_R if a.r is None else a.r,
+            "horizon": CLI_HORIZON if a.horizon is None else a.horizon,
+            "success_radius": CLI_RADIUS,
+            "integrator": "dp5" if a.dt is None else "rk4",
+            "dt": a.dt,
+        }
+        flags = {"r": "--r", "horizon": "--horizon", "dt": "--dt"}
+        check_theory(th, flags.get)
+
     def evaluate_one(
         self, l1: tuple[float, float], l2: tuple[float, float], w: np.ndarray, a: argparse.Namespace
     ) -> DesignResult:
