@@ -38,10 +38,10 @@ def observe_control(
         ctrl[i, 0] = wp.float32(0.0)
         ctrl[i, 1] = wp.float32(0.0)
         return
-    ok = int(1)
+    ok = wp.int32(1)
     for j in range(qpos.shape[1]):
         if not wp.isfinite(qpos[i, j]):
-            ok = 0
+            ok = wp.int32(0)
     if ok == 0:
         finite[i] = 0
         steps[i] = k
@@ -85,6 +85,7 @@ def observe_control(
     s2 = one / (e2x * e2x + e2y * e2y)
     ctrl[i, RIGHT_] = wp.float32(wp.tanh(weight[i, 0] * s1) * vmax)
     ctrl[i, LEFT_] = wp.float32(wp.tanh(weight[i, 1] * s2) * vmax)
+
 
 @wp.kernel(module="unique", enable_backward=False)
 def advance(kstep: wp.array(dtype=wp.int32)):

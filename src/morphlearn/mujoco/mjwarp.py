@@ -31,33 +31,38 @@ docs/mujoco.md):
 from __future__ import annotations
 
 import math
-from typing import Any
+from collections.abc import Callable
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from morphlearn.empirical.options import SweepOptions
 from morphlearn.empirical.params import EmpiricalParams
 from morphlearn.empirical.reach import CHECK_EVERY, ReachBound, sensor_reach
 from morphlearn.grid import light_positions
 from morphlearn.mujoco.episode import Episodes, lower_times
 from morphlearn.mujoco.model import MujocoSettings, build_model
 
+if TYPE_CHECKING:
+    from morphlearn.results import DesignResult
+
 #: The optional dependency group and its pins (pyproject.toml ``[project.optional-dependencies] gpu``).
-INSTALL = "pip install -e '.[gpu]' (mujoco-warp==4.0.0, warp-lang==1.19.0)"
+INSTALL = "pip install mujoco-warp==4.0.0 warp-lang==1.19.0 (pyproject.toml's optional group gpu)"
 #: Worlds per MuJoCo Warp ``Data`` (a chunk); results do not depend on it.
 NWORLD = 16384
 
 
-class WarpUnavailable(RuntimeError):
+class WarpUnavailableError(RuntimeError):
     """MuJoCo Warp was asked for but cannot be used (not installed, or no CUDA device)."""
 
 
 def import_warp() -> tuple[Any, Any]:
-    """``(warp, mujoco_warp)``, or :class:`WarpUnavailable` saying how to install them."""
+    """``(warp, mujoco_warp)``, or :class:`WarpUnavailableError` saying how to install them."""
     try:
         import mujoco_warp
         import warp
     except ImportError as e:
-        raise WarpUnavailable(
+        raise WarpUnavailableError(
             f"mujoco.backend = 'warp' needs MuJoCo Warp, which is not installed ({e}); "
             f"install it with {INSTALL}, or set mujoco.backend to 'cpu'"
         ) from None
@@ -72,7 +77,7 @@ def resolve_device(device: str | None) -> str:
     if device is not None:
         return device
     if wp.get_cuda_device_count() < 1:
-        raise WarpUnavailable(
+        raise WarpUnavailableError(
             "mujoco.backend = 'warp' but Warp sees no CUDA GPU (warp.get_cuda_device_count() == 0): "
             "run it on a GPU node (the mujoco_shard rule asks for one, docs/mujoco.md) "
             "or set mujoco.backend to 'cpu'"
@@ -91,7 +96,7 @@ class WarpBatchRunner:
     """Batches of episodes of one body on MuJoCo Warp (see the module docstring).
 
     ``device``: a Warp device (``"cuda:0"``, ``"cpu"``); None: the first CUDA GPU, else
-    :class:`WarpUnavailable`. ``nworld``: worlds per chunk. ``graph``: replay each stretch of
+    :class:`WarpUnavailableError`. ``nworld``: worlds per chunk. ``graph``: replay each stretch of
     ``CHECK_EVERY`` steps as a captured graph (None: on CUDA only)."""
 
     def __init__(
@@ -120,6 +125,8 @@ class WarpBatchRunner:
         self._bounds: dict[tuple[float, float, float], ReachBound] = {}
         with self.wp.ScopedDevice(self.device):
             self.model = self.mjw.put_model(self.mjm)
+        # stable contact and constraint order and invariant atomics: the same bytes on a rerun
+        self.model.opt.deterministic = True
 
     def bound(self, w_max: float, rho: float, margin: float) -> ReachBound:
         key = (float(w_max), float(rho), float(margin))
@@ -152,7 +159,9 @@ class WarpBatchRunner:
             raise ValueError(f"weights must be (n, 2) and env in 0..3; got {w.shape}, env {np.unique(env)}")
         c = self.nworld
         parts = [
-            self._run(l1[a : a + c], l2[a : a + c], w[a : a + c], env[a : a + c], margin, stop_at_contact, stop_hopeless)
+            self._run(
+                l1[a : a + c], l2[a : a + c], w[a : a + c], env[a : a + c], margin, stop_at_contact, stop_hopeless
+            )
             for a in range(0, n, c)
         ]
         if len(parts) == 1:
@@ -203,9 +212,24 @@ class WarpBatchRunner:
             sens = wp.array(np.concatenate([l1, l2], 1), dtype=f64)
             weight = wp.array(w, dtype=f64)
             args = [
-                kstep, int(p.steps), int(stop_at_contact), float(p.contact_distance**2), float(p.wheel_radius),
-                float(p.max_speed), d.qpos, light, sens, weight, active, first_k, min_d2, tilt_c, lift, steps,
-                finite, d.ctrl,
+                kstep,
+                int(p.steps),
+                int(stop_at_contact),
+                float(p.contact_distance**2),
+                float(p.wheel_radius),
+                float(p.max_speed),
+                d.qpos,
+                light,
+                sens,
+                weight,
+                active,
+                first_k,
+                min_d2,
+                tilt_c,
+                lift,
+                steps,
+                finite,
+                d.ctrl,
             ]
 
             def observe() -> None:
@@ -263,3 +287,59 @@ class WarpBatchRunner:
                 max_lift=lift.numpy(),
             )
         return out
+
+
+def evaluate_designs(
+    coords: np.ndarray,
+    weights: np.ndarray,
+    runner: WarpBatchRunner,
+    options: SweepOptions | None = None,
+    done: Callable[[int, DesignResult], None] | None = None,
+    *,
+    designs_per_batch: int | None = None,
+) -> list[DesignResult]:
+    """:func:`morphlearn.mujoco.episode.evaluate_design` for many designs ``coords`` (D, 4) at once:
+    the episodes of ``designs_per_batch`` designs (default: as many as fill ``runner.nworld`` worlds)
+    share each batch, so a GPU gets thousands of worlds where one design has only 4 m^2 episodes.
+    Per design the same cells and outcomes as ``evaluate_design`` with the same runner (worlds are
+    independent; with the adaptive grid, :func:`refine_waves` grows every design's maps as
+    ``refine`` does). ``done(index, result)`` as each batch of designs finishes."""
+    from morphlearn.mujoco.episode import refine_waves
+    from morphlearn.results import STATUS_INFERRED, STATUS_NONFINITE, STATUS_OK, DesignResult
+
+    options = options or SweepOptions()
+    coords = np.asarray(coords, dtype=np.float64).reshape(-1, 4)
+    w = np.asarray(weights, dtype=np.float64)
+    m = len(w)
+    per = designs_per_batch or max(1, runner.nworld // (4 * m * m))
+    near = options.near * runner.params.contact_distance
+    margin = options.margin if options.early_stop else None
+    out: list[DesignResult] = []
+    for a in range(0, len(coords), per):
+        c = coords[a : a + per]
+        nd = len(c)
+        first = np.full((nd * 4, m, m), np.nan)
+        dist = np.full((nd * 4, m, m), np.nan)
+        status = np.full((nd * 4, m, m), STATUS_OK, dtype=np.int8)
+
+        def simulate(cells: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+            mp, i, j = cells.T  # map = 4 * design + environment
+            d, e = np.divmod(mp, 4)
+            ep = runner.run(c[d, :2], c[d, 2:], np.stack([w[i], w[j]], 1), e, margin=margin)  # noqa: B023
+            first[mp, i, j] = ep.first_time  # noqa: B023
+            dist[mp, i, j] = ep.min_dist  # noqa: B023
+            bad = ~ep.finite
+            status[mp[bad], i[bad], j[bad]] = STATUS_NONFINITE  # noqa: B023
+            return ep.success, ep.min_dist <= near
+
+        if options.adaptive_weights:
+            sim = refine_waves(m, 4 * nd, simulate, options.stride)
+            status[~sim] = STATUS_INFERRED
+        else:
+            simulate(np.argwhere(np.ones((4 * nd, m, m), bool)))
+        for k in range(nd):
+            sl = slice(4 * k, 4 * k + 4)
+            out.append(DesignResult(first_time=first[sl], min_dist=dist[sl], status=status[sl]))
+            if done is not None:
+                done(a + k, out[-1])
+    return out
