@@ -119,3 +119,23 @@ def test_warp_episode_does_not_depend_on_its_batch_graph_or_rerun(warp_cpu) -> N
     again = evaluate_designs(coords, w, runner, opt, designs_per_batch=1)
     assert all(a.first_time.tobytes() == b.first_time.tobytes() for a, b in zip(together, again, strict=True))
     assert any(np.isfinite(r.first_time).any() for r in together)
+
+
+def test_plugin_runs_the_warp_backend(warp_cpu, monkeypatch: pytest.MonkeyPatch) -> None:  # type: ignore[no-untyped-def]
+    """The model's evaluate (what the mujoco_shard rule calls) with backend warp, on Warp's CPU
+    device in place of the GPU: the cpu backend's successes, and the record says mujoco-warp."""
+    from morphlearn.mujoco import mjwarp
+
+    monkeypatch.setattr(mjwarp, "resolve_device", lambda device: device or "cpu")
+    two = [list(map(list, CANON)), [[-0.5, 0.5], [0.5, -0.5]]]  # and the second's mirror image
+    sec = {"enabled": True, "designs": two, "weights": 3, "params": {"steps": 400}}
+    m = models.get("mujoco")
+    cpu, warp = _settings(sec), _settings({**sec, "backend": "warp"})
+    seen: list[int] = []
+    got = m.evaluate(warp, m.designs(warp), done=lambda i, r: seen.append(i))
+    ref = m.evaluate(cpu, m.designs(cpu))
+    assert seen == list(range(len(m.designs(warp)))) and len(got) == len(ref) == len(seen) == 3
+    for a, b in zip(ref, got, strict=True):
+        assert np.array_equal(np.isnan(a.first_time), np.isnan(b.first_time))
+    assert any(np.isfinite(r.first_time).any() for r in ref)
+    assert m.backend(warp) == {"backend": "mujoco-warp", "device": "cpu (CPU)"}

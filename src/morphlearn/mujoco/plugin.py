@@ -61,21 +61,12 @@ class Mujoco(Physics):
         e = self.settings(s)
         if e.backend == "cpu":
             return super().evaluate(s, designs, done)
-        from tqdm import tqdm
+        from morphlearn.mujoco.mjwarp import WarpBatchRunner, evaluate_designs
 
-        from morphlearn.mujoco.episode import evaluate_design
-        from morphlearn.mujoco.mjwarp import WarpBatchRunner
-        from morphlearn.progress import EpisodeProgress
-
-        runner = WarpBatchRunner(e.params)  # one model on the GPU, its kernels compiled once
-        w = self.weights(s)
-        out = []
-        for i, c in enumerate(tqdm(s.grid.designs.coords(designs), unit="design", mininterval=1.0)):
-            log = EpisodeProgress(f"design {int(designs[i])} ({i + 1}/{len(designs)})")
-            out.append(evaluate_design((c[0], c[1]), (c[2], c[3]), w, progress=log, options=e.options, runner=runner))
-            if done:
-                done(i, out[-1])
-        return out
+        # one model on the GPU, its kernels compiled once; the episodes of as many designs as fill
+        # a batch of NWORLD worlds share it (done is called as each batch of designs finishes)
+        runner = WarpBatchRunner(e.params)
+        return evaluate_designs(s.grid.designs.coords(designs), self.weights(s), runner, e.options, done)
 
     def backend(self, s: Settings) -> dict[str, str]:
         if self.settings(s).backend == "cpu":
