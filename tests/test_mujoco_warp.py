@@ -34,6 +34,8 @@ def test_backend_option_asks_for_a_gpu_and_keeps_cpu_digests() -> None:
     assert "backend" not in m.science(cpu)
     assert m.science(warp) == {**m.science(cpu), "backend": "warp"}
     assert models.get("empirical").resources(warp).gpu == 0  # pybullet has no such option
+    assert m.describe(m.science(warp), 1, 11).endswith("; run on MuJoCo Warp (float32, GPU)")
+    assert "Warp" not in m.describe(m.science(cpu), 1, 11)
 
 
 def test_bad_backend_names_the_key() -> None:

@@ -75,6 +75,12 @@ class Mujoco(Physics):
 
         return {"backend": "mujoco-warp", "device": device_name(resolve_device(None))}
 
+    def describe(self, science: Mapping[str, Any], n_designs: int, m: int) -> str:
+        text = super().describe(science, n_designs, m)
+        if science.get("backend") == "warp":  # captions say when the float32 GPU engine made it
+            text += "; run on MuJoCo Warp (float32, GPU)"
+        return text
+
     def resources(self, s: Settings) -> Resources:
         # backend warp: one GPU per shard job (the SLURM plugin submits --gpus=1, as for
         # theory.backend cuda; docs/cluster.md, docs/mujoco.md)
