@@ -1,4 +1,5 @@
-"""theory.backend cuda: the theory shard job asks SLURM for one GPU; the CPU backends ask for none.
+"""theory.backend cuda and mujoco.backend warp: the shard job asks SLURM for one GPU; the CPU
+backends ask for none.
 
 Checked on the submission the SLURM executor plugin really makes, through profiles/slurm: a fake
 ``sbatch`` on PATH records its arguments and refuses the job (so nothing runs), and a fake
@@ -11,6 +12,7 @@ import shlex
 from pathlib import Path
 
 import pytest
+import yaml
 from conftest import copy_workflow, snakemake
 
 FAKE_SBATCH = '#!/bin/sh\nprintf "%s\\n" "$*" >> "$SBATCH_RECORD"\necho "fake sbatch: refused" >&2\nexit 1\n'
@@ -18,11 +20,23 @@ FAKE_SACCTMGR = "#!/bin/sh\necho acct\n"
 FAKE_SINFO = "#!/bin/sh\nprintf 'PARTITION\\ncompute*\\n'\n"  # the default partition
 
 
-@pytest.mark.parametrize("backend, gpus", [("cuda", ["--gpus=1"]), ("auto", [])])
-def test_theory_shard_submission_requests_gpu_only_for_cuda(
-    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, backend: str, gpus: list[str]
+THEORY = "results/theory/shards/shard_0.nc"
+MUJOCO_WARP = {"enabled": True, "results_from": None, "backend": "warp", "designs": [[[0.5, 0.5], [0.5, -0.5]]]}
+
+
+@pytest.mark.parametrize(
+    "target, setting, gpus",
+    [
+        (THEORY, {"theory": {"backend": "cuda"}}, ["--gpus=1"]),
+        (THEORY, {"theory": {"backend": "auto"}}, []),
+        ("results/mujoco/shards/shard_0.nc", {"mujoco": MUJOCO_WARP}, ["--gpus=1"]),
+    ],
+)
+def test_shard_submission_requests_gpu_only_for_gpu_backends(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, target: str, setting: dict, gpus: list[str]
 ) -> None:
     wd = copy_workflow(tmp_path / "wd")
+    (wd / "extra.yaml").write_text(yaml.safe_dump(setting))  # a file: --config would pass numbers as strings
     fakes = tmp_path / "bin"
     fakes.mkdir()
     for name, text in (
@@ -39,13 +53,12 @@ def test_theory_shard_submission_requests_gpu_only_for_cuda(
     monkeypatch.setenv("MORPHLEARN_SLURM_ACCOUNT", "acct")
     proc = snakemake(
         wd,
-        "results/theory/shards/shard_0.nc",
+        target,
         "--profile",
         "profiles/slurm",
         "--configfile",
         "config/smoke.yaml",
-        "--config",
-        f"theory={{'backend': '{backend}'}}",
+        "extra.yaml",
         check=False,
     )
     assert proc.returncode != 0  # the fake sbatch refused: nothing ran

@@ -4,7 +4,9 @@
   (the pybullet model's parameters, ``config/empirical_morphology.yaml``) plus
   :class:`~.model.MujocoSettings` for what exists only in MuJoCo;
 - :mod:`.episode`: batched episodes (:class:`~.episode.BatchRunner`) and
-  :func:`~.episode.evaluate_design`, a drop-in for :func:`morphlearn.empirical.episode.evaluate_design`.
+  :func:`~.episode.evaluate_design`, a drop-in for :func:`morphlearn.empirical.episode.evaluate_design`;
+- :mod:`.mjwarp` (optional, ``mujoco.backend: warp``): the same episodes on MuJoCo Warp, one world
+  per episode on a GPU (:class:`~.mjwarp.WarpBatchRunner`); imported only when asked for.
 
 The same as the pybullet model (:mod:`morphlearn.empirical.robot`, :mod:`morphlearn.empirical.episode`):
 body 1 x 1 x wheel_radius/2 at z = wheel_radius, masses, sphere wheels at the sides set back
