@@ -212,3 +212,47 @@ def test_one_plus_one_restart_draws_a_new_parent_when_its_step_collapses() -> No
         restarted = restarted or not np.array_equal(lr.x, x0)
     assert plain.sigma == plain.SIGMA_MIN and np.array_equal(plain.x.shape, (3,))
     assert restarted and lr.x.shape == (3,) and lr.sigma > lr.SIGMA_MIN
+
+
+def _wilson(k: int, n: int) -> tuple[float, float]:
+    """The Wilson score interval written out again here (z for 95 %), not coopt.experiment's."""
+    z = 1.959963985
+    centre = (k + z * z / 2) / (n + z * z)
+    half = z * math.sqrt(k * (n - k) / n + z * z / 4) / (n + z * z)
+    return centre - half, centre + half
+
+
+def test_reproduction_rows_match_the_committed_runs_and_landscape_counts() -> None:
+    """The coopt rows of the reproduction table (beyond the paper) from the committed bundle's
+    summary and landscape tables, against values recomputed from runs.csv (reached per run) and
+    from the landscape's generalist counts."""
+    import re
+
+    from morphlearn.figures import reproduction
+
+    b = ROOT / "results" / "coopt"
+    summary, land = pd.read_csv(b / "summary.csv"), pd.read_csv(b / "landscape.csv")
+    table = reproduction.reproduction_table(None, None, None, "coopt.yaml", 0.1, coopt=(summary, land, 0.5))
+    rows = table[table.key.str.startswith("coopt_")].set_index("key")
+    assert (rows.paper == reproduction.BEYOND_COOPT).all() and len(rows) == 5 * 2 + 2
+    runs = pd.read_csv(b / "runs.csv")
+    top = runs[(runs.budget == runs.budget.max()) & (runs.sigma0.isna() | (runs.sigma0 == 0.5))]
+    names = {"random": "random search", "one_plus_one": "(1+1)-ES (step 0.5)", "cmaes": "CMA-ES (step 0.5)"}
+    for (setup, protocol), g in top.groupby(["setup", "protocol"]):
+        cell = rows.loc[f"coopt_{setup}_{protocol}_P_generalist", "ours"]
+        for learner, h in g.groupby("learner"):
+            k, n = int(h.reached.sum()), len(h)
+            lo, hi = _wilson(k, n)
+            assert n == 30
+            assert f"{names[learner]} {k / n:.2f} [{lo:.2f}, {hi:.2f}]" in cell, (setup, protocol, learner, cell)
+    canon = land[land["name"] == "canonical"].iloc[0]
+    m = int(canon.m)
+    want = {
+        "M_L": (canon.generalists / m**4, canon.generalists_2w / m**2),
+        "M_CF": (canon.generalists / canon.at_least_one, canon.generalists_2w / canon.at_least_one_2w),
+    }
+    for metric, (four, two) in want.items():
+        got = re.findall(r"[0-9.]+(?= \()", rows.loc[f"coopt_canonical_{metric}_4w_vs_2w", "ours"])
+        assert [float(x) for x in got] == pytest.approx([four, two], rel=1e-3), (metric, got)
+    # the paper's claim this stage answers: four weights make the canonical design more learnable
+    assert want["M_L"][0] > want["M_L"][1]
