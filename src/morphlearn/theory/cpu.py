@@ -6,7 +6,7 @@ import numba
 import numpy as np
 
 from morphlearn.theory import model
-from morphlearn.theory.arrays import sweep_arrays
+from morphlearn.theory.arrays import points4_arrays, sweep_arrays
 
 _trajectory = model.build(numba.njit(cache=True, inline="never"))
 #: The four-synapse controller, the same integrator source (``model.build(..., synapses=4)``).
@@ -218,17 +218,8 @@ def points4(
     (any point of the body square, so a co-optimised body needs no grid), environment
     ``env_idx[k]``, weights ``w[k] = (w1, w2, u1, u2)`` (crossed, then uncrossed). With ``u1 = u2 =
     0`` this equals :func:`points` bit for bit (tested). Returns (first_time, min_dist, status)."""
-    coords = np.ascontiguousarray(coords, dtype=np.float64)
-    starts = np.ascontiguousarray(starts, dtype=np.float64)
-    ei = np.ascontiguousarray(env_idx, dtype=np.int64)
-    w = np.ascontiguousarray(w, dtype=np.float64)
-    n = ei.shape[0]
-    if ei.ndim != 1 or coords.shape != (n, 4) or w.shape != (n, 4):
-        raise ValueError(
-            f"points4: env_idx must be 1-d (n,), coords and w (n, 4); got {ei.shape}, {coords.shape}, {w.shape}"
-        )
-    out_t, out_d, out_s = np.empty(n), np.empty(n), np.empty(n, dtype=np.int8)
-    if n:
+    coords, starts, ei, w, (out_t, out_d, out_s) = points4_arrays(coords, starts, env_idx, w)
+    if ei.shape[0]:
         with numba.parallel_chunksize(_CHUNK):
             _points4(
                 coords,
