@@ -52,15 +52,13 @@ SCRIPT = textwrap.dedent(
     out = {"auto": resolve_backend("auto")}
     for name, fields in args["cases"].items():
         p = TheoryParams(**fields)
-        ft, dm, st, n = gpu.sweep(d, w, grid.env_starts(p.r), radius=p.success_radius, horizon=p.horizon,
-                                  method=p.method, rtol=p.rtol, atol=p.atol, dt=p.dt, max_steps=p.max_steps)
+        ft, dm, st, n = gpu.sweep(d, w, grid.env_starts(p.r), **p.kernel_kwargs())
         np.savez(sys.argv[2] + "/" + name + ".npz", ft=ft, dm=dm, st=st, n=n)
     # the four-synapse launcher, both integrators
     for name, fields in args["cases"].items():
         p = TheoryParams(**fields)
         ft, dm, st = gpu.points4(np.array(args["p4_coords"]), grid.env_starts(p.r), np.array(args["p4_envs"]),
-                                 np.array(args["p4_w"]), radius=p.success_radius, horizon=p.horizon,
-                                 method=p.method, rtol=p.rtol, atol=p.atol, dt=p.dt, max_steps=p.max_steps)
+                                 np.array(args["p4_w"]), **p.kernel_kwargs())
         np.savez(sys.argv[2] + "/points4_" + name + ".npz", ft=ft, dm=dm, st=st)
     # the evaluate() path with backend "cuda"
     r = evaluate(d[:1], w, TheoryParams(**{**args["cases"]["dp5"], "backend": "cuda"}))[0]
@@ -68,18 +66,6 @@ SCRIPT = textwrap.dedent(
     print(json.dumps(out))
     """
 )
-
-
-def _kw(p: TheoryParams) -> dict:
-    return dict(
-        radius=p.success_radius,
-        horizon=p.horizon,
-        method=p.method,
-        rtol=p.rtol,
-        atol=p.atol,
-        dt=p.dt,
-        max_steps=p.max_steps,
-    )
 
 
 @pytest.fixture(scope="module")
@@ -105,7 +91,7 @@ def simulated(tmp_path_factory: pytest.TempPathFactory) -> tuple[Path, dict]:
 def test_cuda_kernel_matches_cpu_kernel_in_simulator(simulated: tuple[Path, dict], name: str, p: TheoryParams) -> None:
     tmp, _ = simulated
     g = np.load(tmp / f"{name}.npz")
-    c = cpu.sweep(DESIGNS, WEIGHTS, grid.env_starts(p.r), **_kw(p))
+    c = cpu.sweep(DESIGNS, WEIGHTS, grid.env_starts(p.r), **p.kernel_kwargs())
     ok_g, ok_c = ~np.isnan(g["ft"]), ~np.isnan(c[0])
     both = ok_g & ok_c
     dt = np.abs(g["ft"][both] - c[0][both])
@@ -139,7 +125,7 @@ def test_cuda_four_synapse_launcher_is_bit_identical_to_cpu_in_simulator(
     the same source, so under the simulator every output is equal bit for bit."""
     tmp, _ = simulated
     g = np.load(tmp / f"points4_{name}.npz")
-    c = cpu.points4(P4_COORDS, grid.env_starts(p.r), P4_ENVS, P4_W, **_kw(p))
+    c = cpu.points4(P4_COORDS, grid.env_starts(p.r), P4_ENVS, P4_W, **p.kernel_kwargs())
     ok = np.isfinite(c[0])
     print(f"points4 {name}: {int(ok.sum())} of {ok.size} succeed, {int((c[2] != 0).sum())} flagged")
     assert ok.any() and (~ok).any()  # successes and failures
