@@ -31,18 +31,6 @@ FULL = 6561 * 4 * 121**2  # trajectories of the paper grid (3321 designs with mi
 CONFIGS = [("dp5 1e-8", TheoryParams()), ("rk4 dt=0.01", TheoryParams(integrator="rk4"))]
 
 
-def _kw(p: TheoryParams) -> dict:
-    return dict(
-        radius=p.success_radius,
-        horizon=p.horizon,
-        method=p.method,
-        rtol=p.rtol,
-        atol=p.atol,
-        dt=p.dt,
-        max_steps=p.max_steps,
-    )
-
-
 def _timed(f: Callable[[], tuple]) -> tuple[tuple, float, float]:
     w0, c0 = time.perf_counter(), time.process_time()
     out = f()
@@ -86,8 +74,8 @@ def main() -> None:
     rates: dict[str, float] = {}
     cpu_out: dict[str, tuple] = {}
     for name, p in CONFIGS:
-        cpu.sweep(designs[:1], w[:2], starts, **_kw(p))  # compile / load cache outside the timing
-        out, wall, cput = _timed(lambda p=p: cpu.sweep(designs, w, starts, **_kw(p)))
+        cpu.sweep(designs[:1], w[:2], starts, **p.kernel_kwargs())  # compile / load cache outside the timing
+        out, wall, cput = _timed(lambda p=p: cpu.sweep(designs, w, starts, **p.kernel_kwargs()))
         cpu_out[name] = out
         rates[name] = n_traj / cput
         print(
@@ -114,8 +102,8 @@ def main() -> None:
         return
     print(f"# GPU: {gpu.device_description()}, float64, one thread per trajectory, refill scheduling")
     for name, p in CONFIGS:
-        gpu.sweep(designs[:1], w[:2], starts, **_kw(p))  # compile outside the timing
-        out, wall, _ = _timed(lambda p=p: gpu.sweep(designs, w, starts, **_kw(p)))
+        gpu.sweep(designs[:1], w[:2], starts, **p.kernel_kwargs())  # compile outside the timing
+        out, wall, _ = _timed(lambda p=p: gpu.sweep(designs, w, starts, **p.kernel_kwargs()))
         r = n_traj / wall
         print(
             f"GPU {name:12s}: {r:9.0f} trajectories/s ({wall:.2f} s wall); "
@@ -127,7 +115,7 @@ def main() -> None:
         w121 = grid.weights(121)
         n_big = len(big) * 4 * 121**2
         for name, p in CONFIGS:
-            _, wall, _ = _timed(lambda p=p: gpu.sweep(big, w121, starts, **_kw(p)))
+            _, wall, _ = _timed(lambda p=p: gpu.sweep(big, w121, starts, **p.kernel_kwargs()))
             print(
                 f"GPU {name:12s} on {len(big)} designs x 121^2 ({n_big} trajectories): {wall:.1f} s; "
                 f"full sweep estimate {FULL / n_big * wall:.0f} s "

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import replace
+from pathlib import Path
 
 import numpy as np
 import pandas as pd
@@ -15,6 +16,7 @@ from morphlearn.coopt.landscape import landscape
 from morphlearn.coopt.setups import CANONICAL, decode, paper_setups
 from morphlearn.theory import TheoryParams
 
+ROOT = Path(__file__).resolve().parents[1]
 BEST = (-0.5, -0.375, 0.5, 0.375)
 TINY = settings.CooptSettings(
     enabled=True,
@@ -153,7 +155,46 @@ def test_stage_end_to_end_on_a_tiny_config(tmp_path) -> None:
     assert "| canonical | (0.5, 0.5, 0.5, -0.5) |" in md and "| learner | protocol | budget | (a) | (c) |" in md
     runs = pd.read_csv(tmp_path / "out" / "runs.csv")
     assert len(runs) == 2 * 2 * 2 * 3  # setups x variants x seeds x (joint at 6, sequential at 3 and 6)
-    assert (tmp_path / "out" / "coopt.png").stat().st_size > 10_000
+    # the figure is the registered notebook's (test below); the analysis writes its background
+    pmap = pd.read_csv(tmp_path / "out" / "position_map.csv")
+    assert len(pmap) == 2 * 9 * 9 and list(pmap.columns) == ["sensor", "x", "y", "M_L"]
+    from morphlearn.coopt import analysis
+    from morphlearn.figures import output
+
+    fig = analysis.figure(pd.read_csv(tmp_path / "out" / "summary.csv"), runs, pmap, 0.5)
+    assert output.readability_problems(fig) == []
+
+
+def test_position_map_is_the_best_m_l_with_the_sensor_there() -> None:
+    """Recomputed by a plain loop over the paper bundle's designs, not by groupby."""
+    from morphlearn.coopt import analysis
+
+    m = pd.read_csv(ROOT / "results/paper/theory/metrics.csv")
+    pmap = analysis.position_map(ROOT / "results/paper/theory/metrics.csv")
+    for sensor, x, y in ((1, 0.5, 0.5), (2, -0.5, 0.0), (1, 0.0, -0.25)):
+        cx, cy = ("l1x", "l1y") if sensor == 1 else ("l2x", "l2y")
+        want = max(r.M_L for r in m.itertuples() if getattr(r, cx) == x and getattr(r, cy) == y)
+        got = pmap[(pmap.sensor == sensor) & (pmap.x == x) & (pmap.y == y)].M_L
+        assert got.tolist() == [want]
+    m1, m2 = analysis.map_arrays(pmap)
+    assert m2.shape == (9, 9)
+    assert m1.shape == (9, 9) and m1[8, 8] == pmap[(pmap.sensor == 1) & (pmap.x == 0.5) & (pmap.y == 0.5)].M_L.iloc[0]
+
+
+def test_committed_bundle_figure_renders_from_the_bundle_alone_to_the_same_bytes(tmp_path) -> None:
+    """notebooks/coopt.ipynb on a copy of results/coopt (the project root elsewhere): every file,
+    the figure's PNG, PDF and caption included, matches the committed bundle.json."""
+    import shutil
+
+    from morphlearn.coopt import bundle
+
+    copy = tmp_path / "results" / "coopt"
+    shutil.copytree(ROOT / "results" / "coopt", copy, ignore=shutil.ignore_patterns("logs"))
+    for f in bundle.FIGURE:
+        (copy / f).unlink()
+    seconds, problems = bundle.render(copy, ROOT)
+    assert problems == [], problems
+    print(f"coopt figure re-rendered in {seconds:.1f} s")
 
 
 def test_one_plus_one_restart_draws_a_new_parent_when_its_step_collapses() -> None:
@@ -171,3 +212,47 @@ def test_one_plus_one_restart_draws_a_new_parent_when_its_step_collapses() -> No
         restarted = restarted or not np.array_equal(lr.x, x0)
     assert plain.sigma == plain.SIGMA_MIN and np.array_equal(plain.x.shape, (3,))
     assert restarted and lr.x.shape == (3,) and lr.sigma > lr.SIGMA_MIN
+
+
+def _wilson(k: int, n: int) -> tuple[float, float]:
+    """The Wilson score interval written out again here (z for 95 %), not coopt.experiment's."""
+    z = 1.959963985
+    centre = (k + z * z / 2) / (n + z * z)
+    half = z * math.sqrt(k * (n - k) / n + z * z / 4) / (n + z * z)
+    return centre - half, centre + half
+
+
+def test_reproduction_rows_match_the_committed_runs_and_landscape_counts() -> None:
+    """The coopt rows of the reproduction table (beyond the paper) from the committed bundle's
+    summary and landscape tables, against values recomputed from runs.csv (reached per run) and
+    from the landscape's generalist counts."""
+    import re
+
+    from morphlearn.figures import reproduction
+
+    b = ROOT / "results" / "coopt"
+    summary, land = pd.read_csv(b / "summary.csv"), pd.read_csv(b / "landscape.csv")
+    table = reproduction.reproduction_table(None, None, None, "coopt.yaml", 0.1, coopt=(summary, land, 0.5))
+    rows = table[table.key.str.startswith("coopt_")].set_index("key")
+    assert (rows.paper == reproduction.BEYOND_COOPT).all() and len(rows) == 5 * 2 + 2
+    runs = pd.read_csv(b / "runs.csv")
+    top = runs[(runs.budget == runs.budget.max()) & (runs.sigma0.isna() | (runs.sigma0 == 0.5))]
+    names = {"random": "random search", "one_plus_one": "(1+1)-ES (step 0.5)", "cmaes": "CMA-ES (step 0.5)"}
+    for (setup, protocol), g in top.groupby(["setup", "protocol"]):
+        cell = rows.loc[f"coopt_{setup}_{protocol}_P_generalist", "ours"]
+        for learner, h in g.groupby("learner"):
+            k, n = int(h.reached.sum()), len(h)
+            lo, hi = _wilson(k, n)
+            assert n == 30
+            assert f"{names[learner]} {k / n:.2f} [{lo:.2f}, {hi:.2f}]" in cell, (setup, protocol, learner, cell)
+    canon = land[land["name"] == "canonical"].iloc[0]
+    m = int(canon.m)
+    want = {
+        "M_L": (canon.generalists / m**4, canon.generalists_2w / m**2),
+        "M_CF": (canon.generalists / canon.at_least_one, canon.generalists_2w / canon.at_least_one_2w),
+    }
+    for metric, (four, two) in want.items():
+        got = re.findall(r"[0-9.]+(?= \()", rows.loc[f"coopt_canonical_{metric}_4w_vs_2w", "ours"])
+        assert [float(x) for x in got] == pytest.approx([four, two], rel=1e-3), (metric, got)
+    # the paper's claim this stage answers: four weights make the canonical design more learnable
+    assert want["M_L"][0] > want["M_L"][1]

@@ -30,6 +30,12 @@ DESIGNS = np.array([[-0.5, 0.5, -0.125, -0.5], [-0.125, 0.375, 0.0, -0.5]])
 WEIGHTS = grid.weights(3)
 SMALL = dict(r=1.0, horizon=50.0, max_steps=3000)
 CASES = [("dp5", TheoryParams(**SMALL)), ("rk4", TheoryParams(**SMALL, integrator="rk4", dt=0.05))]
+# The four-synapse launcher: 16 points (cheap in the simulator), grid and off-grid bodies, every
+# environment, uncrossed weights zero and not, so that successes, failures and step caps occur.
+_rng = np.random.default_rng(27)
+P4_COORDS = np.vstack([np.repeat(DESIGNS, 4, axis=0), _rng.uniform(-0.5, 0.5, (8, 4))])
+P4_ENVS = np.tile(np.arange(4), 4)
+P4_W = np.hstack([_rng.choice(WEIGHTS, (16, 2)), np.where(np.arange(16)[:, None] % 2, _rng.uniform(-1, 1, (16, 2)), 0)])
 
 SCRIPT = textwrap.dedent(
     """
@@ -46,27 +52,20 @@ SCRIPT = textwrap.dedent(
     out = {"auto": resolve_backend("auto")}
     for name, fields in args["cases"].items():
         p = TheoryParams(**fields)
-        ft, dm, st, n = gpu.sweep(d, w, grid.env_starts(p.r), radius=p.success_radius, horizon=p.horizon,
-                                  method=p.method, rtol=p.rtol, atol=p.atol, dt=p.dt, max_steps=p.max_steps)
+        ft, dm, st, n = gpu.sweep(d, w, grid.env_starts(p.r), **p.kernel_kwargs())
         np.savez(sys.argv[2] + "/" + name + ".npz", ft=ft, dm=dm, st=st, n=n)
+    # the four-synapse launcher, both integrators
+    for name, fields in args["cases"].items():
+        p = TheoryParams(**fields)
+        ft, dm, st = gpu.points4(np.array(args["p4_coords"]), grid.env_starts(p.r), np.array(args["p4_envs"]),
+                                 np.array(args["p4_w"]), **p.kernel_kwargs())
+        np.savez(sys.argv[2] + "/points4_" + name + ".npz", ft=ft, dm=dm, st=st)
     # the evaluate() path with backend "cuda"
     r = evaluate(d[:1], w, TheoryParams(**{**args["cases"]["dp5"], "backend": "cuda"}))[0]
     np.savez(sys.argv[2] + "/evaluate.npz", ft=r.first_time, dm=r.min_dist, st=r.status)
     print(json.dumps(out))
     """
 )
-
-
-def _kw(p: TheoryParams) -> dict:
-    return dict(
-        radius=p.success_radius,
-        horizon=p.horizon,
-        method=p.method,
-        rtol=p.rtol,
-        atol=p.atol,
-        dt=p.dt,
-        max_steps=p.max_steps,
-    )
 
 
 @pytest.fixture(scope="module")
@@ -76,6 +75,9 @@ def simulated(tmp_path_factory: pytest.TempPathFactory) -> tuple[Path, dict]:
         "designs": DESIGNS.tolist(),
         "weights": WEIGHTS.tolist(),
         "cases": {name: dataclasses.asdict(p) for name, p in CASES},
+        "p4_coords": P4_COORDS.tolist(),
+        "p4_envs": P4_ENVS.tolist(),
+        "p4_w": P4_W.tolist(),
     }
     env = dict(os.environ, NUMBA_ENABLE_CUDASIM="1")
     r = subprocess.run(
@@ -89,7 +91,7 @@ def simulated(tmp_path_factory: pytest.TempPathFactory) -> tuple[Path, dict]:
 def test_cuda_kernel_matches_cpu_kernel_in_simulator(simulated: tuple[Path, dict], name: str, p: TheoryParams) -> None:
     tmp, _ = simulated
     g = np.load(tmp / f"{name}.npz")
-    c = cpu.sweep(DESIGNS, WEIGHTS, grid.env_starts(p.r), **_kw(p))
+    c = cpu.sweep(DESIGNS, WEIGHTS, grid.env_starts(p.r), **p.kernel_kwargs())
     ok_g, ok_c = ~np.isnan(g["ft"]), ~np.isnan(c[0])
     both = ok_g & ok_c
     dt = np.abs(g["ft"][both] - c[0][both])
@@ -113,6 +115,25 @@ def test_cuda_kernel_matches_cpu_kernel_in_simulator(simulated: tuple[Path, dict
     assert report["status_differ"] == 0
     assert report["max_abs_dfirst_time"] <= 1e-9
     assert report["max_abs_dmin_dist"] <= 1e-9
+
+
+@pytest.mark.parametrize("name,p", CASES, ids=[c[0] for c in CASES])
+def test_cuda_four_synapse_launcher_is_bit_identical_to_cpu_in_simulator(
+    simulated: tuple[Path, dict], name: str, p: TheoryParams
+) -> None:
+    """cuda.points4 (the refill kernel over the four-synapse device model) against cpu.points4:
+    the same source, so under the simulator every output is equal bit for bit."""
+    tmp, _ = simulated
+    g = np.load(tmp / f"points4_{name}.npz")
+    c = cpu.points4(P4_COORDS, grid.env_starts(p.r), P4_ENVS, P4_W, **p.kernel_kwargs())
+    ok = np.isfinite(c[0])
+    print(f"points4 {name}: {int(ok.sum())} of {ok.size} succeed, {int((c[2] != 0).sum())} flagged")
+    assert ok.any() and (~ok).any()  # successes and failures
+    if name == "dp5":  # and step caps, as in the sweep's case
+        assert (c[2] != 0).any()
+    assert g["st"].tolist() == c[2].tolist()
+    np.testing.assert_array_equal(g["ft"], c[0])  # NaN == NaN here, all else exactly equal
+    np.testing.assert_array_equal(g["dm"], c[1])
 
 
 def test_evaluate_with_cuda_backend_in_simulator(simulated: tuple[Path, dict]) -> None:

@@ -56,7 +56,7 @@ SMOKE_STEPS = {
     ),
     # Every notebook, the reproduction table and the results bundle (which holds all of them).
     "figures": (
-        [*(f"figure_fig{i}" for i in range(1, 8)), "figure_learners", "reproduction", "bundle"],
+        [*(f"figure_fig{i}" for i in range(1, 8)), "figure_learners", "figure_coopt", "reproduction", "bundle"],
         ["results/bundle"],
     ),
 }

@@ -11,18 +11,6 @@ from morphlearn.theory import TheoryParams, cpu, model
 P = TheoryParams()
 
 
-def _kw(p: TheoryParams) -> dict:
-    return dict(
-        radius=p.success_radius,
-        horizon=p.horizon,
-        method=p.method,
-        rtol=p.rtol,
-        atol=p.atol,
-        dt=p.dt,
-        max_steps=p.max_steps,
-    )
-
-
 @pytest.mark.parametrize("integrator", ["dp5", "rk4"])
 def test_four_synapse_with_zero_uncrossed_is_bit_identical_to_two_synapse(integrator: str) -> None:
     p = TheoryParams(integrator=integrator, dt=0.05)
@@ -40,9 +28,9 @@ def test_four_synapse_with_zero_uncrossed_is_bit_identical_to_two_synapse(integr
     ei = rng.integers(0, 4, n)
     w = np.where(rng.random((n, 2)) < 0.5, rng.choice(weights(21), (n, 2)), rng.uniform(-1, 1, (n, 2)))
     starts = env_starts(p.r)
-    t2, d2, s2 = cpu.points(designs, starts, di, ei, w[:, 0], w[:, 1], **_kw(p))
+    t2, d2, s2 = cpu.points(designs, starts, di, ei, w[:, 0], w[:, 1], **p.kernel_kwargs())
     w4 = np.hstack([w, np.zeros((n, 2))])
-    t4, d4, s4 = cpu.points4(designs[di], starts, ei, w4, **_kw(p))
+    t4, d4, s4 = cpu.points4(designs[di], starts, ei, w4, **p.kernel_kwargs())
     assert s2.tolist() == s4.tolist()
     np.testing.assert_array_equal(t2, t4)  # NaN == NaN here; everything else exactly equal
     np.testing.assert_array_equal(d2, d4)
@@ -52,10 +40,10 @@ def test_four_synapse_with_zero_uncrossed_is_bit_identical_to_two_synapse(integr
 def test_four_synapse_grid_special_case_matches_the_sweep() -> None:
     design = np.array([[0.5, 0.5, 0.5, -0.5]])
     w = weights(7)
-    ft, dm, st, _ = cpu.sweep(design, w, env_starts(P.r), **_kw(P))
+    ft, dm, st, _ = cpu.sweep(design, w, env_starts(P.r), **P.kernel_kwargs())
     e, i, j = np.meshgrid(np.arange(4), np.arange(7), np.arange(7), indexing="ij")
     w4 = np.stack([w[i.ravel()], w[j.ravel()], np.zeros(e.size), np.zeros(e.size)], axis=1)
-    t4, d4, s4 = cpu.points4(np.repeat(design, e.size, axis=0), env_starts(P.r), e.ravel(), w4, **_kw(P))
+    t4, d4, s4 = cpu.points4(np.repeat(design, e.size, axis=0), env_starts(P.r), e.ravel(), w4, **P.kernel_kwargs())
     np.testing.assert_array_equal(ft[0].ravel(), t4)
     np.testing.assert_array_equal(dm[0].ravel(), d4)
     assert st[0].ravel().tolist() == s4.tolist()
@@ -86,11 +74,11 @@ def test_uncrossed_weights_change_trajectories() -> None:
     e = np.arange(4)
     base = np.tile([0.5, -0.3, 0.0, 0.0], (4, 1))
     other = np.tile([0.5, -0.3, 0.4, -0.2], (4, 1))
-    a = cpu.points4(design, env_starts(P.r), e, base, **_kw(P))
-    b = cpu.points4(design, env_starts(P.r), e, other, **_kw(P))
+    a = cpu.points4(design, env_starts(P.r), e, base, **P.kernel_kwargs())
+    b = cpu.points4(design, env_starts(P.r), e, other, **P.kernel_kwargs())
     assert not (np.array_equal(a[0], b[0], equal_nan=True) and np.array_equal(a[1], b[1]))
 
 
 def test_points4_refuses_bad_shapes() -> None:
     with pytest.raises(ValueError, match=r"coords and w \(n, 4\)"):
-        cpu.points4(np.zeros((3, 4)), env_starts(4.0), np.zeros(3, int), np.zeros((3, 2)), **_kw(P))
+        cpu.points4(np.zeros((3, 4)), env_starts(4.0), np.zeros(3, int), np.zeros((3, 2)), **P.kernel_kwargs())

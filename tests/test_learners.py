@@ -32,13 +32,7 @@ def test_points_kernel_equals_grid_kernel_on_grid_points() -> None:
         designs,
         w,
         env_starts(P.r),
-        radius=P.success_radius,
-        horizon=P.horizon,
-        method=P.method,
-        rtol=P.rtol,
-        atol=P.atol,
-        dt=P.dt,
-        max_steps=P.max_steps,
+        **P.kernel_kwargs(),
     )
     d, e, i, j = (a.ravel() for a in np.indices(ft.shape))
     t2, d2, s2 = kernel.points(
@@ -48,13 +42,7 @@ def test_points_kernel_equals_grid_kernel_on_grid_points() -> None:
         e,
         w[i],
         w[j],
-        radius=P.success_radius,
-        horizon=P.horizon,
-        method=P.method,
-        rtol=P.rtol,
-        atol=P.atol,
-        dt=P.dt,
-        max_steps=P.max_steps,
+        **P.kernel_kwargs(),
     )
     np.testing.assert_array_equal(t2, ft.ravel())  # same compiled model: bit-identical
     np.testing.assert_array_equal(d2, dm.ravel())

@@ -65,7 +65,8 @@ rule coopt_analysis:
         summary=f"{R}/coopt/summary.csv",
         landscape=f"{R}/coopt/landscape.csv",
         md=f"{R}/coopt/summary.md",
-        png=f"{R}/coopt/coopt.png",
+        # the figure's background (M_L by sensor position); the figure is figure_coopt
+        position_map=f"{R}/coopt/position_map.csv",
     log:
         f"{R}/logs/coopt/analysis.log",
     conda:

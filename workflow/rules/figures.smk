@@ -64,6 +64,12 @@ rule reproduction:
         code=figure_registry.notebook_modules("workflow/scripts/reproduction.py", "src"),
         # beyond the paper: the learner stage's correlations, when it runs
         learners=([f"{R}/learners/correlations.csv"] if S.learners.enabled else []),
+        # beyond the paper: the coopt stage's tables, when it runs
+        coopt=(
+            [f"{R}/coopt/summary.csv", f"{R}/coopt/landscape.csv"]
+            if S.coopt.enabled
+            else []
+        ),
     output:
         csv=update(f"{R}/reproduction.csv"),
         md=update(f"{R}/reproduction.md"),
@@ -84,6 +90,7 @@ rule reproduction:
     params:
         config_name=" + ".join(Path(f).name for f in reversed(workflow.configfiles)),
         learners=S.learners.enabled,
+        coopt=S.coopt.sigmas[0] if S.coopt.enabled else None,
         near=S.figures.near_distance,
         limit=S.figures.persistence_controllers,
         settings=figure_options.trajectory_settings(S),

@@ -1,4 +1,5 @@
-"""Rule coopt_analysis: the (a)-(e) tables, the landscape table, the summary and the figure."""
+"""Rule coopt_analysis: the (a)-(e) tables, the landscape table, the summary and the figure's
+position map (the figure itself: rule figure_coopt, notebooks/coopt.ipynb)."""
 
 import sys
 from pathlib import Path

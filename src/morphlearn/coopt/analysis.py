@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import math
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 import pandas as pd
@@ -13,6 +13,9 @@ import pandas as pd
 from morphlearn.coopt.setups import paper_setups
 from morphlearn.grid import positions
 from morphlearn.settings import CooptSettings
+
+if TYPE_CHECKING:
+    from matplotlib.figure import Figure
 
 LEARNER_LABEL = {
     "random": "random",
@@ -39,19 +42,28 @@ def bodies(runs: pd.DataFrame) -> pd.DataFrame:
     return co.drop(columns=["x"])
 
 
-def position_map(metrics_csv: str | Path) -> tuple[np.ndarray, np.ndarray]:
-    """M_L over the position of one sensor, maximised over the other sensor's grid positions:
-    (n, n) maps for sensor 1 (l1x, l1y) and sensor 2, from a theory metrics table."""
+def position_map(metrics_csv: str | Path) -> pd.DataFrame:
+    """M_L over the position of one sensor, maximised over the other sensor's grid positions, from
+    a theory metrics table: one row per sensor (1, 2) and grid position (x, y). The figure's
+    background; a table so that the figure renders from the stage's outputs alone."""
     m = pd.read_csv(metrics_csv)
-    n = round(len(m) ** 0.25)
-    ax = positions(n)
-    idx = {float(v): i for i, v in enumerate(ax)}
-    out = []
-    for cx, cy in (("l1x", "l1y"), ("l2x", "l2y")):
+    rows = []
+    for sensor, (cx, cy) in ((1, ("l1x", "l1y")), (2, ("l2x", "l2y"))):
         g = m.groupby([cx, cy]).M_L.max()
+        rows += [{"sensor": sensor, "x": float(x), "y": float(y), "M_L": float(v)} for (x, y), v in g.items()]
+    return pd.DataFrame(rows, columns=["sensor", "x", "y", "M_L"])
+
+
+def map_arrays(table: pd.DataFrame) -> tuple[np.ndarray, np.ndarray]:
+    """The (n, n) maps of sensor 1 and sensor 2 of a :func:`position_map` table, indexed
+    [x, y] on the grid's positions."""
+    n = round((len(table) // 2) ** 0.5)
+    idx = {float(v): i for i, v in enumerate(positions(n))}
+    out = []
+    for sensor in (1, 2):
         a = np.zeros((n, n))
-        for (x, y), v in g.items():
-            a[idx[float(x)], idx[float(y)]] = v
+        for r in table[table.sensor == sensor].itertuples():
+            a[idx[float(r.x)], idx[float(r.y)]] = r.M_L
         out.append(a)
     return out[0], out[1]
 
@@ -139,21 +151,19 @@ def _detail(summary: pd.DataFrame) -> str:
     return "\n".join(lines)
 
 
-def figure(summary: pd.DataFrame, runs: pd.DataFrame, metrics_csv: str | Path, out: str | Path, sigma: float) -> None:
+def figure(summary: pd.DataFrame, runs: pd.DataFrame, pmap: pd.DataFrame, sigma: float) -> Figure:
     """Left: P(generalist) against the budget per setup (joint and sequential; evolution
     strategies at step ``sigma``). Right: the learned bodies of the co-optimised runs that reached
-    a generalist (joint, largest budget) over M_L by sensor position (the other sensor at its best)."""
-    import matplotlib
-
-    matplotlib.use("Agg")
+    a generalist (joint, largest budget) over M_L by sensor position (the other sensor at its best).
+    Drawn by notebooks/coopt.ipynb (the figure rule, or ``morphlearn.coopt.bundle render``)."""
     import matplotlib.pyplot as plt
     from matplotlib.ticker import NullLocator
 
-    plt.rcParams["svg.hashsalt"] = "morphlearn"
-    fig, axes = plt.subplots(2, 4, figsize=(16, 7.5), layout="constrained")
+    fig, axes = plt.subplots(2, 4, figsize=(12, 7.6), layout="constrained", width_ratios=(1, 1, 1, 1.25))
     colours = {"a": "C0", "b": "C1", "c": "C2", "d": "C3", "e": "C7"}
     labels = {x.name: x.label for x in paper_setups((0.0,) * 4)}  # type: ignore[arg-type]
     keep = summary[summary.sigma0.isna() | (summary.sigma0 == sigma)]
+    budgets = sorted(keep.budget.unique())
     for row, pr in enumerate(("joint", "sequential")):
         for col, lr in enumerate(("random", "one_plus_one", "cmaes")):
             ax = axes[row, col]
@@ -172,13 +182,16 @@ def figure(summary: pd.DataFrame, runs: pd.DataFrame, metrics_csv: str | Path, o
             ax.set_xscale("log")
             ax.xaxis.set_minor_locator(NullLocator())
             ax.set_ylim(-0.02, 1.02)
-            ax.set_xticks(sorted(keep.budget.unique()), [str(b) for b in sorted(keep.budget.unique())])
+            ax.set_xticks(budgets, [str(b) for b in budgets])
             ax.set_title(f"{learner_label(lr, math.nan if lr == 'random' else sigma)}, {pr}", fontsize=10)
-            ax.set_xlabel("budget (joint evaluations)")
+            ax.set_xlabel("budget (evaluations)")
             if col == 0:
                 ax.set_ylabel("P(generalist within budget)")
-    axes[0, 0].legend(fontsize=7, loc="lower right")
-    m1, m2 = position_map(metrics_csv)
+            else:
+                ax.tick_params(labelleft=False)
+    handles, names = axes[0, 0].get_legend_handles_labels()
+    fig.legend(handles, names, loc="outside lower center", ncols=3, fontsize=9)
+    m1, m2 = map_arrays(pmap)
     co = bodies(runs)
     co = co[(co.protocol == "joint") & co.reached]
     for row, (mp, sx, sy, name) in enumerate(((m1, "l1x", "l1y", "sensor 1"), (m2, "l2x", "l2y", "sensor 2"))):
@@ -188,12 +201,13 @@ def figure(summary: pd.DataFrame, runs: pd.DataFrame, metrics_csv: str | Path, o
         im = ax.imshow(mp.T, origin="lower", extent=(-0.5 - h, 0.5 + h, -0.5 - h, 0.5 + h), cmap="viridis")
         for st, mk in (("c", "o"), ("d", "^")):
             p = co[co.setup == st]
-            ax.scatter(p[sx], p[sy], s=14, marker=mk, facecolor="none", edgecolor="w" if st == "c" else "r", lw=0.8)
-            ax.scatter([], [], marker=mk, facecolor="none", edgecolor="k", label=f"({st}) generalists, {len(p)} runs")
-        ax.set_title(f"{name}: learned positions over max M_L", fontsize=10)
+            ec = "w" if st == "c" else "r"
+            ax.scatter(p[sx], p[sy], s=14, marker=mk, facecolor="none", edgecolor=ec, lw=0.8)
+            ax.scatter([], [], marker=mk, facecolor="none", edgecolor=ec, label=f"({st}) generalists: {len(p)}")
+        ax.set_title(f"{name}: learned positions", fontsize=10)
         ax.set_xlabel(f"{sx} (forward)")
         ax.set_ylabel(f"{sy} (left)")
-        ax.legend(fontsize=7, loc="lower left")
-        fig.colorbar(im, ax=ax, shrink=0.8, label="M_L (2 weights, other sensor best)")
-    fig.savefig(out, dpi=110, format="png", metadata={"Software": None})
-    plt.close(fig)
+        # a dark frame: the white and red markers show on it as on the map
+        ax.legend(fontsize=9, loc="lower left", frameon=True, facecolor="0.3", framealpha=0.9, labelcolor="w")
+        fig.colorbar(im, ax=ax, shrink=0.8, label="max M_L (2 weights)")
+    return fig

@@ -67,13 +67,7 @@ def successes(coords: np.ndarray, m: int, p: TheoryParams, *, chunk: int = 200_0
             starts,
             env,
             np.tile(g, (N_ENV, 1)),
-            radius=p.success_radius,
-            horizon=p.horizon,
-            method=p.method,
-            rtol=p.rtol,
-            atol=p.atol,
-            dt=p.dt,
-            max_steps=p.max_steps,
+            **p.kernel_kwargs(),
         )
         with np.errstate(invalid="ignore"):
             ok[:, a : a + k] = ((st == 0) & (ft <= p.horizon)).reshape(N_ENV, k)

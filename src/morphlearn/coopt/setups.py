@@ -86,13 +86,7 @@ class SetupEvaluator:
             env_starts(p.r),
             env_idx,
             w,
-            radius=p.success_radius,
-            horizon=p.horizon,
-            method=p.method,
-            rtol=p.rtol,
-            atol=p.atol,
-            dt=p.dt,
-            max_steps=p.max_steps,
+            **p.kernel_kwargs(),
         )
         self.trajectories += len(ft)
         success = (st == 0) & np.isfinite(ft)

@@ -91,7 +91,8 @@ def run_variant(settings: Settings, setup: str, variant: str, out: str | Path) -
 
 
 def run_analysis(settings: Settings, landscapes: list[str], run_csvs: list[str], out_dir: str | Path) -> None:
-    """runs.csv, summary.csv, landscape.csv, summary.md and coopt.png in ``out_dir``."""
+    """runs.csv, summary.csv, landscape.csv, summary.md and position_map.csv in ``out_dir`` (the
+    figure is a registered figure notebook, notebooks/coopt.ipynb, that reads them)."""
     import pandas as pd
 
     from morphlearn.coopt import analysis, experiment
@@ -120,10 +121,10 @@ def run_analysis(settings: Settings, landscapes: list[str], run_csvs: list[str],
             }
         )
     land = pd.DataFrame(rows)
-    for name, table in (("runs.csv", runs), ("summary.csv", summary), ("landscape.csv", land)):
+    pmap = analysis.position_map(s.best_metrics)
+    tables = (("runs.csv", runs), ("summary.csv", summary), ("landscape.csv", land), ("position_map.csv", pmap))
+    for name, table in tables:
         with store.atomic_path(out_dir / name) as tmp:
             table.to_csv(tmp, index=False, float_format=CSV_FLOAT_FORMAT)
     with store.atomic_path(out_dir / "summary.md") as tmp:
         tmp.write_text(analysis.summary_markdown(summary, land, s))
-    with store.atomic_path(out_dir / "coopt.png") as tmp:
-        analysis.figure(summary, runs, s.best_metrics, tmp, s.sigmas[0])

@@ -25,7 +25,10 @@ def empirical_survey(s: Settings) -> bool:
 #: Figure conditions besides "a config section is enabled" (registry ``needs``).
 FIGURE_CONDITIONS: dict[str, Callable[[Settings], bool]] = {"empirical_survey": empirical_survey}
 #: Config sections with an ``enabled`` switch that a figure may need.
-STAGES: dict[str, Callable[[Settings], bool]] = {"learners": lambda s: s.learners.enabled}
+STAGES: dict[str, Callable[[Settings], bool]] = {
+    "learners": lambda s: s.learners.enabled,
+    "coopt": lambda s: s.coopt.enabled,
+}
 
 
 def figures(s: Settings) -> list[str]:
@@ -53,6 +56,7 @@ DERIVED_FIGURE_OPTIONS: dict[str, Callable[[Settings], Any]] = {
     "morphology": lambda s: s.models["empirical"].params.to_dict(),  # Fig. 1C: the physics body
     "trajectory_settings": trajectory_settings,
     "top": lambda s: s.analysis.top,  # the survey figure's sensor maps: the summary's top designs
+    "coopt_sigma": lambda s: s.coopt.sigmas[0],  # the coopt figure's evolution strategies: the first step
 }
 
 

@@ -50,6 +50,14 @@ FIGURES: dict[str, Figure] = {
     "fig7": Figure(reads=("theory", "empirical")),
     # beyond the paper: real learners against M_L and M_CF (issue 15; config/learners.yaml)
     "learners": Figure(needs="learners", files=("learners/runs.csv", "learners/correlations.csv")),
+    # beyond the paper: co-optimising the body against a four-synapse controller (issue 27;
+    # config/coopt.yaml); also re-rendered from the committed bundle (morphlearn.coopt.bundle)
+    "coopt": Figure(
+        reads=(),
+        needs="coopt",
+        options=("coopt_sigma",),
+        files=("coopt/summary.csv", "coopt/runs.csv", "coopt/position_map.csv"),
+    ),
     # beyond the paper: theory against physics per design (issue 12; config/survey.yaml)
     "survey": Figure(reads=("theory", "empirical"), needs="empirical_survey", options=("top",)),
 }

@@ -74,6 +74,16 @@ BEYOND_MODELS = "beyond the paper (the two models were not compared design by de
 #: The paper's column for the comparison of two physics engines (issue 25).
 BEYOND_ENGINES = "beyond the paper (one physics engine, pybullet)"
 LEARNER_LABELS = {"random": "random search", "one_plus_one": "(1+1)-ES", "cmaes": "CMA-ES"}
+#: The paper's column for the coopt stage (issue 27): the question the paper closes on.
+BEYOND_COOPT = "beyond the paper (its closing question, not tested there)"
+#: Setups of the coopt stage (coopt.setups.paper_setups; repeated here: this module stays light).
+COOPT_SETUPS = {
+    "a": "canonical body, 2 weights",
+    "b": "canonical body, 4 weights",
+    "c": "co-optimised body, 2 weights",
+    "d": "co-optimised body, 4 weights",
+    "e": "best two-weight design, 2 weights",
+}
 
 
 def _ci(r: pd.Series, key: str) -> str:
@@ -103,6 +113,59 @@ def learner_rows(corr: pd.DataFrame, config_name: str) -> list[dict[str, str]]:
             note = f"{int(r.designs)} designs; learners/correlations.csv"
             rows.append(
                 {"key": key, "quantity": quantity, "paper": BEYOND, "ours": value, "config": config_name, "note": note}
+            )
+    return rows
+
+
+def coopt_rows(summary: pd.DataFrame, landscape: pd.DataFrame, sigma: float, config_name: str) -> list[dict[str, str]]:
+    """Rows beyond the paper from the coopt stage (coopt/summary.csv, coopt/landscape.csv): per
+    setup and protocol, P(generalist within the largest budget) [95 % Wilson] of random search and
+    of the evolution strategies at step ``sigma``; the canonical design's four-weight M_L and M_CF
+    beside its two-weight values on the same grid."""
+    rows = []
+
+    def add(key: str, quantity: str, value: str, note: str) -> None:
+        rows.append(
+            {
+                "key": key,
+                "quantity": quantity,
+                "paper": BEYOND_COOPT,
+                "ours": value,
+                "config": config_name,
+                "note": note,
+            }
+        )
+
+    budget = int(summary.budget.max())
+    keep = summary[(summary.budget == budget) & (summary.sigma0.isna() | (summary.sigma0 == sigma))]
+    for protocol in ("joint", "sequential"):
+        for setup, label in COOPT_SETUPS.items():
+            g = keep[(keep.protocol == protocol) & (keep.setup == setup)]
+            if not len(g):
+                continue
+            cells, runs = [], set()
+            for learner in LEARNER_LABELS:
+                for r in g[g.learner == learner].itertuples():
+                    name = LEARNER_LABELS[learner] + ("" if pd.isna(r.sigma0) else f" (step {r.sigma0:g})")
+                    cells.append(f"{name} {r.p_generalist:.2f} [{r.p_lo:.2f}, {r.p_hi:.2f}]")
+                    runs.add(int(r.runs))
+            add(
+                f"coopt_{setup}_{protocol}_P_generalist",
+                f"coopt ({setup}) {label}, {protocol} training: P(generalist within {budget} evaluations)",
+                "; ".join(cells),
+                f"{'/'.join(str(n) for n in sorted(runs))} runs per learner, 95 % Wilson intervals; coopt/summary.csv",
+            )
+    canon = landscape[landscape["name"] == "canonical"]
+    if len(canon):
+        r = canon.iloc[0]
+        m = int(r.m)
+        for metric in ("M_L", "M_CF"):
+            add(
+                f"coopt_canonical_{metric}_4w_vs_2w",
+                f"coopt, canonical design: {metric} with four weights vs two",
+                f"{r[metric + '_4w']:.4g} (4 weights) vs {r[metric + '_2w']:.4g} (2 weights)",
+                f"{m} points per weight in [-1, 1] ({m}^4 controllers; two weights: the slice u1 = u2 = 0, "
+                f"{m} x {m}); at the bundle's 121 x 121: {r[metric + '_bundle']:.4g}; coopt/landscape.csv",
             )
     return rows
 
@@ -357,10 +420,12 @@ def reproduction_table(
     near: float,
     learners: pd.DataFrame | None = None,
     engines: dict[str, fd.ModelResults] | None = None,
+    coopt: tuple[pd.DataFrame, pd.DataFrame, float] | None = None,
 ) -> pd.DataFrame:
     """The table, one row per entry of ``QUANTITIES`` in that order, then the learner rows (beyond
     the paper) when ``learners`` (learners/correlations.csv) is given, and for each further
-    physics engine in ``engines`` (model name -> results) its survey and engine-agreement rows."""
+    physics engine in ``engines`` (model name -> results) its survey and engine-agreement rows,
+    then the coopt stage's rows when ``coopt`` (its summary, landscape table and step) is given."""
     ours: dict[str, tuple[str, str]] = {}
     if theory is not None:
         ours |= theory_rows(theory, persistence, near)
@@ -390,6 +455,8 @@ def reproduction_table(
             rows += engine_rows(empirical, res, (physics_models()[0], name), label, config_name)
     if learners is not None:
         rows += learner_rows(learners, config_name)
+    if coopt is not None:
+        rows += coopt_rows(*coopt, config_name)
     return pd.DataFrame(rows, columns=COLUMNS)
 
 
@@ -447,10 +514,16 @@ def run(
     near: float,
     limit: int,
     learners_enabled: bool = False,
+    coopt_sigma: float | None = None,
 ) -> tuple[pd.DataFrame, pd.DataFrame]:
     """Load the results of the models of ``thresholds`` (model -> its thresholds: the models this
-    config runs) and build (reproduction table, persistence table)."""
+    config runs) and build (reproduction table, persistence table). ``coopt_sigma``: the coopt
+    stage ran (its rows use the evolution strategies at that step)."""
     corr = pd.read_csv(Path(results_dir) / "learners" / "correlations.csv") if learners_enabled else None
+    coopt = None
+    if coopt_sigma is not None:
+        c = Path(results_dir) / "coopt"
+        coopt = (pd.read_csv(c / "summary.csv"), pd.read_csv(c / "landscape.csv"), coopt_sigma)
     res = {m: fd.load_results(results_dir, m, th) for m, th in thresholds.items()}
     missing = [m for m, r in res.items() if r is None]
     if missing:
@@ -460,4 +533,4 @@ def run(
         raise FileNotFoundError(f"no theory results under {results_dir}")
     pers = persistence_counts(theory, fd.TheorySettings(**settings), near, limit)
     engines = {m: r for m, r in res.items() if m in physics_models()[1:] and r is not None}
-    return reproduction_table(theory, emp, pers, config_name, near, corr, engines), pers
+    return reproduction_table(theory, emp, pers, config_name, near, corr, engines, coopt), pers

@@ -69,13 +69,7 @@ class Evaluator:
             env_idx,
             w[:, 0],
             w[:, 1],
-            radius=p.success_radius,
-            horizon=p.horizon,
-            method=p.method,
-            rtol=p.rtol,
-            atol=p.atol,
-            dt=p.dt,
-            max_steps=p.max_steps,
+            **p.kernel_kwargs(),
         )
         self.trajectories += len(ft)
         success = (st == 0) & np.isfinite(ft)

@@ -36,6 +36,19 @@ class TheoryParams:
     def method(self) -> int:
         return METHOD_DP5 if self.integrator == "dp5" else METHOD_RK4
 
+    def kernel_kwargs(self) -> dict[str, Any]:
+        """The keyword arguments every kernel launcher takes (``cpu``/``cuda`` ``sweep``,
+        ``points``, ``points4``): one place that maps the parameters onto the kernels'."""
+        return {
+            "radius": self.success_radius,
+            "horizon": self.horizon,
+            "method": self.method,
+            "rtol": self.rtol,
+            "atol": self.atol,
+            "dt": self.dt,
+            "max_steps": self.max_steps,
+        }
+
 
 BACKENDS = ("auto", "cpu", "cuda")
 #: Trajectories per kernel call when none is given: bounded memory and progress on the CPU; on the
@@ -99,13 +112,7 @@ def evaluate(
             designs[a : a + per_batch],
             weights,
             starts,
-            radius=p.success_radius,
-            horizon=p.horizon,
-            method=p.method,
-            rtol=p.rtol,
-            atol=p.atol,
-            dt=p.dt,
-            max_steps=p.max_steps,
+            **p.kernel_kwargs(),
         )
         for i in range(len(ft)):
             out.append(DesignResult(ft[i], dm[i], st[i]))

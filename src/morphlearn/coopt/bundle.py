@@ -1,0 +1,117 @@
+"""The coopt stage's committed bundle (``results/coopt``): re-render its figure from the bundle
+alone and check every file against ``bundle.json``, as :mod:`morphlearn.scenario_bundle` does for
+the scenario set.
+
+The bundle holds the stage's outputs (``summary.csv``, ``runs.csv``, ``landscape.csv``,
+``position_map.csv``, ``summary.md``, the restart runs), the figure (``coopt.png``, ``.pdf``,
+``.caption.md``, drawn by notebooks/coopt.ipynb, the registered figure ``coopt``), a README and
+``bundle.json``. Usage::
+
+    python -m morphlearn.coopt.bundle render results/coopt   # re-render, then check
+    python -m morphlearn.coopt.bundle seal results/coopt     # rewrite the digests (after a rebuild)
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import yaml
+
+from morphlearn import bundle_check, provenance
+from morphlearn.bundle import MANIFEST
+
+NOTEBOOK = "notebooks/coopt.ipynb"
+STYLE = "notebooks/style.mplstyle"
+#: The figure's files in the bundle.
+FIGURE = ("coopt.png", "coopt.pdf", "coopt.caption.md")
+#: The step size of the evolution strategies the figure draws (config/coopt.yaml's first sigma).
+SIGMA = 0.5
+
+
+def _render(out_dir: Path, root: str | Path | None, sigma: float = SIGMA) -> float:
+    """Run the figure notebook on a bundle's files, in place (the executed notebook goes to
+    ``logs/``). Paths are relative to the folder that holds ``results/``, and the bundle is passed
+    as ``results_dir``'s ``coopt`` folder, so the caption names ``coopt/<file>`` wherever the
+    project is (the same names as a workflow run's caption)."""
+    out_dir = out_dir.resolve()
+    root = Path(root).resolve() if root else Path(__file__).resolve().parents[3]
+    cwd = out_dir.parents[1]  # <project>/results/<name>
+    rel = out_dir.relative_to(cwd)
+    params = {
+        "results_dir": str(rel.parent),
+        "coopt_dir": str(rel),
+        "coopt_sigma": sigma,
+        "style": str(root / STYLE),
+        **{k: str(rel / f) for k, f in zip(("png", "pdf", "caption"), FIGURE, strict=True)},
+    }
+    (out_dir / "logs").mkdir(exist_ok=True)
+    env = dict(os.environ, PYTHONPATH=os.pathsep.join(filter(None, [str(root / "src"), os.environ.get("PYTHONPATH")])))
+    papermill = Path(sys.executable).with_name("papermill")
+    t0 = time.perf_counter()
+    proc = subprocess.run(
+        [
+            str(papermill),
+            str(root / NOTEBOOK),
+            str(rel / "logs" / "coopt.ipynb"),
+            "-y",
+            yaml.safe_dump(params, default_flow_style=True, width=10**6).strip(),
+        ],
+        cwd=cwd,
+        capture_output=True,
+        text=True,
+        env=env,
+    )
+    if proc.returncode:
+        raise RuntimeError(f"papermill {NOTEBOOK} failed ({proc.returncode}):\n{proc.stderr[-3000:]}")
+    return time.perf_counter() - t0
+
+
+def render(out_dir: str | Path, root: str | Path | None = None) -> tuple[float, list[str]]:
+    """Re-render the figure of a coopt bundle in place; returns the wall seconds and the problems
+    :func:`morphlearn.bundle_check.check` then finds (empty: byte-identical to ``bundle.json``)."""
+    seconds = _render(Path(out_dir), root)
+    return seconds, bundle_check.check(out_dir)
+
+
+def seal(out_dir: str | Path) -> dict[str, str]:
+    """Rewrite the ``files`` digests of ``bundle.json`` (every file but the logs; ``made_by`` kept)."""
+    out_dir = Path(out_dir)
+    mpath = out_dir / MANIFEST
+    manifest = json.loads(mpath.read_text())
+    listed = [
+        p
+        for p in sorted(out_dir.rglob("*"))
+        if p.is_file() and p.name != MANIFEST and "logs" not in p.relative_to(out_dir).parts
+    ]
+    manifest["files"] = {p.relative_to(out_dir).as_posix(): provenance.sha256_file(p) for p in listed}
+    mpath.write_text(json.dumps(manifest, indent=1, sort_keys=True) + "\n")
+    return manifest["files"]
+
+
+def main(argv: list[str] | None = None) -> int:
+    ap = argparse.ArgumentParser(prog="python -m morphlearn.coopt.bundle", description=__doc__.splitlines()[0])
+    sub = ap.add_subparsers(dest="cmd", required=True)
+    for name, what in (("render", "re-render the figure and check the bundle"), ("seal", "rewrite bundle.json")):
+        sub.add_parser(name, help=what).add_argument("bundle_dir")
+    a = ap.parse_args(argv)
+    if a.cmd == "seal":
+        print(f"{a.bundle_dir}: {len(seal(a.bundle_dir))} files sealed")
+        return 0
+    seconds, problems = render(a.bundle_dir)
+    print(
+        f"{a.bundle_dir}: figure re-rendered in {seconds:.1f} s; "
+        + ("every file matches bundle.json" if not problems else f"{len(problems)} problem(s):")
+    )
+    for p in problems:
+        print(f"  {p}")
+    return 1 if problems else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
