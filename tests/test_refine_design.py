@@ -276,3 +276,30 @@ def test_adaptive_replay_equals_an_adaptive_run(tmp_path: Path) -> None:
     assert m["successes"] == int(succ.sum()) > 0 and 0 < m["simulated_share"] <= 1
     got = metrics.success(run.first_time, run.min_dist, rz.thresholds(job.params))
     assert m["successes_missed"] == int((succ & ~got).sum())
+
+
+def test_adaptive_cost_without_early_stop_equals_a_run_without_it(tmp_path: Path) -> None:
+    """`refine_design.py adaptive` derives the no-lever cost from the early-stopped folder (a failure
+    runs the whole horizon, a success stops at contact): its step count equals a real run's."""
+    pytest.importorskip("mujoco")
+    import subprocess
+    import sys
+
+    base = _job(m=5).__dict__
+    stopped = rz.Job(**{**base, "engine": "mujoco"})
+    full = rz.Job(**{**base, "engine": "mujoco", "options": SweepOptions(early_stop=False)})
+    rz.run(tmp_path / "es", stopped, body_file=BODY, log=_quiet)
+    rz.run(tmp_path / "full", full, body_file=BODY, log=_quiet)
+    tool = Path(__file__).resolve().parents[1] / "tools" / "refine_design.py"
+    proc = subprocess.run(
+        [sys.executable, str(tool), "adaptive", str(tmp_path / "es"), "--near", "4"],
+        capture_output=True,
+        text=True,
+        check=True,
+    )
+    cost = json.loads(proc.stdout)["cost"]
+    real = rz.assemble(tmp_path / "full", log=_quiet).steps.astype(np.int64).sum()
+    es = rz.assemble(tmp_path / "es", log=_quiet).steps.astype(np.int64).sum()
+    assert cost["exhaustive_no_early_stop"]["steps"] == real
+    assert cost["exhaustive_early_stop"]["steps"] == es < real  # the early stop saved steps here
+    assert 0 < cost["adaptive_near_4_early_stop"]["steps"] <= es

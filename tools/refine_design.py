@@ -233,7 +233,8 @@ def cmd_export(a: argparse.Namespace) -> int:
 def cmd_adaptive(a: argparse.Namespace) -> int:
     """The adaptive weight grid's misses at each ``--near``, replayed on a complete exhaustive folder."""
     from morphlearn import metrics
-    from morphlearn.empirical.refine import misses
+    from morphlearn.empirical.refine import misses, simulated_mask
+    from morphlearn.results import STATUS_OK
 
     asm = rz.assemble(a.folder, log=_log)
     if not asm.complete:
@@ -244,7 +245,26 @@ def cmd_adaptive(a: argparse.Namespace) -> int:
     r = asm.result
     succ = metrics.success(r.first_time, r.min_dist, rz.thresholds(job.params))
     out = [misses(succ, r.min_dist, job.params.contact_distance, near) for near in a.near]
-    print(json.dumps({"folder": str(a.folder), "engine": job.engine, "weights": job.m, "replays": out}, indent=1))
+    # The levers' cost from the physics steps each cell took (the chunks record them) at the
+    # folder's measured CPU-s per step: with early stop off a failure runs the whole horizon and a
+    # success stops at contact as it does now; the adaptive grid runs only the cells it simulates.
+    steps = asm.steps.astype(np.int64)
+    horizon = round(job.params.horizon / job.params.dt)
+    ended_early = succ | (r.status != STATUS_OK)
+    no_levers = int(np.where(ended_early, steps, horizon).sum())
+    cost = json.loads((a.folder / "summary.json").read_text())["cost"] if (a.folder / "summary.json").exists() else {}
+    per_step = cost.get("cpu_s", float("nan")) / int(steps.sum())
+    levers = {
+        "cpu_s_per_step": per_step,
+        "exhaustive_no_early_stop": {"steps": no_levers, "cpu_s": no_levers * per_step},
+        "exhaustive_early_stop": {"steps": int(steps.sum()), "cpu_s": int(steps.sum()) * per_step},
+    }
+    for near in a.near:
+        sim = simulated_mask(succ, r.min_dist, job.params.contact_distance, near)
+        n = int(steps[sim].sum())
+        levers[f"adaptive_near_{near:g}_early_stop"] = {"steps": n, "cpu_s": n * per_step}
+    report = {"folder": str(a.folder), "engine": job.engine, "weights": job.m, "replays": out, "cost": levers}
+    print(json.dumps(report, indent=1))
     return 0
 
 

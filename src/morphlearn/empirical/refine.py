@@ -83,6 +83,13 @@ def replay_mask(seeds: np.ndarray, stride: int = DEFAULT_STRIDE) -> np.ndarray:
     return out
 
 
+def simulated_mask(
+    success: np.ndarray, min_dist: np.ndarray, contact: float, near: float, stride: int = DEFAULT_STRIDE
+) -> np.ndarray:
+    """(4, m, m) cells the adaptive grid at ``near`` simulates, replayed on exhaustive outcomes."""
+    return replay_mask(success | (min_dist <= near * contact), stride)
+
+
 def misses(
     success: np.ndarray, min_dist: np.ndarray, contact: float, near: float, stride: int = DEFAULT_STRIDE
 ) -> dict[str, float]:
@@ -90,7 +97,7 @@ def misses(
     (env, w1, w2) of one design, replayed without simulating (``min_dist`` as simulated with the
     same early-stop setting, so the replay makes the adaptive run's choices): the share of episodes
     it simulates, the successes and the generalists it loses."""
-    simulated = replay_mask(success | (min_dist <= near * contact), stride)
+    simulated = simulated_mask(success, min_dist, contact, near, stride)
     kept = success & simulated
     gen, gen_kept = success.all(axis=0), kept.all(axis=0)
     return {
