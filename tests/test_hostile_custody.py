@@ -21,8 +21,9 @@ import pandas as pd
 import pytest
 from conftest import ROOT, snakemake
 
-from morphlearn import bundle, bundle_check, cli, metrics, provenance, resimulate, rules
+from morphlearn import bundle, bundle_check, cli, metrics, provenance, resimulate, rules, store
 from morphlearn.figures import caption, data
+from morphlearn.grid import ENV_ANGLES_DEG
 
 SMOKE = ("--configfile", "config/smoke.yaml")
 PAPER = ROOT / "results" / "paper"
@@ -530,3 +531,101 @@ def test_a_sample_of_paper_rows_resimulates_exactly() -> None:
     """Two rows of the committed paper bundle drawn at random (seed 0), held or not, re-simulated
     at paper resolution (121 x 121 weights, 4 environments)."""
     assert resimulate.resimulate(PAPER, ["sample:2"]) == []
+
+
+# -- 3b. physics rows re-simulated on request (MODEL:WHICH, through the model registry) ---------
+
+
+def _consistent_forgery(table: Path, d: int) -> None:
+    """Replace the row of design ``d`` by another that is consistent in itself
+    (bundle_check.row_problems finds nothing): no success at all, or, where the row has none, one
+    success in the first environment."""
+    counts = [*(f"n_{a}" for a in ENV_ANGLES_DEG), "generalists", "at_least_one"]
+    none = dict.fromkeys([*counts, "M_L", "M_CF"], 0)
+    row = pd.read_csv(table).set_index("design").loc[d]
+    _csv_edit(table, d, **(none if row[counts].any() else none | {"n_45": 1, "at_least_one": 1}))
+
+
+def test_a_consistent_forgery_of_a_pybullet_row_needs_resimulation(run: Path, tmp_path: Path) -> None:
+    """The smoke bundle's pybullet rows (2 x 2 weights, early stop on): a consistent edit with the
+    manifest updated passes check-bundle; ``--resimulate empirical:D`` re-simulates that design with
+    the recorded science and catches it (was: refused as a usage error, theory rows only)."""
+    b = tmp_path / "forged"
+    shutil.copytree(run / "smoke-bundle", b)
+    d = int(pd.read_csv(b / "empirical/metrics.csv").design.iloc[0])
+    rc, out = _cli(str(b), "--resimulate", f"empirical:{d}")
+    assert rc == 0 and "agree exactly" in out, out
+    _consistent_forgery(b / "empirical/metrics.csv", d)
+    _reseal_manifest(b, "empirical/metrics.csv")
+    assert bundle_check.check(b) == []  # consistent in itself
+    rc, out = _cli(str(b), "--resimulate", f"empirical:{d}")
+    assert rc == 1 and f"empirical design {d}: metrics row" in out, out
+
+
+@pytest.fixture(scope="module")
+def mujoco_results(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    """MuJoCo results with every lever a survey records (mirror_derive, early stop, adaptive
+    weights) on the smallest grid: design 75 and its mirror 51, 3 x 3 weights; about 5 s."""
+    pytest.importorskip("mujoco")
+    from morphlearn import config, models, settings
+
+    out = tmp_path_factory.mktemp("mujoco")
+    section = {"enabled": True, "results_from": None, "weights": 3, "designs": [[[0.5, 0.5], [0.0, -0.5]]]}
+    section |= {"include_mirrors": True, "mirror_derive": True, "early_stop": True, "adaptive_weights": True}
+    cfg = config.deep_merge(
+        config.read(ROOT / "config.yaml"),
+        {
+            "results_dir": str(out),
+            "grid": {"positions_per_axis": 3, "weights": 5},
+            "sweep": {"shards": 1, "threads": 1},
+            "figures": {"enabled": False},
+            "empirical": {"enabled": False},
+            "mujoco": section | {"shards": 1},
+        },
+    )
+    cwd = Path.cwd()
+    os.chdir(ROOT)  # the body file is named relative to the project root
+    try:
+        s = settings.parse(cfg)
+    finally:
+        os.chdir(cwd)
+    shard = out / "mujoco/shards/shard_0.nc"
+    rules.run_shard(s, "mujoco", 0, shard)
+    rules.run_merge(s, "mujoco", [str(shard)], out / "mujoco/merged.zarr")
+    th = models.get("mujoco").thresholds(s)
+    rules.run_metrics("mujoco", th, out / "mujoco/merged.zarr", out / "mujoco/metrics.csv")
+    return out
+
+
+def test_mujoco_rows_resimulate_with_their_recorded_levers(mujoco_results: Path, tmp_path: Path) -> None:
+    """Both rows (51 simulated, 75 derived from it as the merge derives it) and their stored arrays
+    re-made exactly from the science record (levers included); a consistent forgery of either row
+    is caught."""
+    sci = store.science_of(store.open_merged(mujoco_results / "mujoco/merged.zarr"))
+    assert sci["mirror_derive"] and sci["early_stop"] and sci["adaptive_weights"], sci
+    assert resimulate.resimulate(mujoco_results, ["mujoco:51", "mujoco:75"]) == []
+    for d in (51, 75):
+        b = tmp_path / str(d)
+        shutil.copytree(mujoco_results, b)
+        _consistent_forgery(b / "mujoco/metrics.csv", d)
+        assert bundle_check.row_problems(pd.read_csv(b / "mujoco/metrics.csv"), 9) == []
+        (again,) = resimulate.resimulate(b, [f"mujoco:{d}"])
+        assert again.startswith(f"mujoco design {d}: metrics row"), again
+
+
+@pytest.mark.parametrize(
+    "which",
+    ["nomodel:1", "empirical:", "sample:x", "mujoco:canonical:2"],
+)
+def test_resimulate_refuses_an_unknown_model_or_design(which: str, capsys: pytest.CaptureFixture) -> None:
+    """Refused before the bundle is read: one line naming what is allowed, exit 2."""
+    rc, out = _cli(str(ROOT / "results/survey"), "--resimulate", which)
+    err = capsys.readouterr().err
+    assert rc == 2 and out == "" and "Traceback" not in err, (rc, out, err)
+    assert len(err.strip().splitlines()) == 1 and "allowed: [MODEL:]WHICH, MODEL one of theory, empirical" in err, err
+
+
+def test_resimulate_names_a_model_the_bundle_does_not_hold(mujoco_results: Path) -> None:
+    assert resimulate.resimulate(mujoco_results, ["empirical:1"]) == [
+        f"{mujoco_results}/empirical: no empirical results in this bundle (allowed models here: mujoco)"
+    ]
