@@ -9,7 +9,7 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from morphlearn import config, settings
+from morphlearn import config, provenance, rules, settings
 from morphlearn.coopt import experiment as ex
 from morphlearn.coopt.landscape import landscape
 from morphlearn.coopt.setups import CANONICAL, decode, paper_setups
@@ -154,6 +154,12 @@ def test_stage_end_to_end_on_a_tiny_config(tmp_path) -> None:
     runs = pd.read_csv(tmp_path / "out" / "runs.csv")
     assert len(runs) == 2 * 2 * 2 * 3  # setups x variants x seeds x (joint at 6, sequential at 3 and 6)
     assert (tmp_path / "out" / "coopt.png").stat().st_size > 10_000
+    # custody (issue 24): the analysis is sealed; an edit of any of its files is refused at start
+    rules.check_custody([], [tmp_path / "out" / "summary.csv"])
+    with (tmp_path / "out" / "summary.md").open("a") as f:
+        f.write("edited\n")
+    with pytest.raises(provenance.CustodyError, match=r"summary\.md: SHA-256 .* differs"):
+        rules.check_custody([], [tmp_path / "out" / "summary.csv"])
 
 
 def test_one_plus_one_restart_draws_a_new_parent_when_its_step_collapses() -> None:

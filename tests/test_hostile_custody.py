@@ -14,6 +14,7 @@ import json
 import os
 import shutil
 import subprocess
+import sys
 from collections.abc import Callable
 from pathlib import Path
 
@@ -22,6 +23,8 @@ import pytest
 from conftest import ROOT, snakemake
 
 from morphlearn import bundle, bundle_check, cli, metrics, provenance, resimulate, rules, store
+from morphlearn import config as config_mod
+from morphlearn import settings as settings_mod
 from morphlearn.figures import caption, data
 from morphlearn.grid import ENV_ANGLES_DEG
 
@@ -401,6 +404,125 @@ def test_failed_reruns_keep_previous_outputs(run: Path) -> None:
     finally:
         for p, b in saved.items():
             p.write_bytes(b)
+
+
+# -- 1-2 in the other stages: learners, co-optimisation, scenarios -----------------------------
+
+#: Every rule of these configs (stages on: learners, coopt, MuJoCo, a bundle; the scenarios; a
+#: physics model read from a bundle) has only update() outputs: a failed or refused rerun keeps
+#: the previous ones (the sweep's is shown end to end above). One process parses all three.
+_STAGE_CONFIGS = {
+    "stages.yaml": {
+        "learners": {"enabled": True, "max_designs": 3, "shards": 2},
+        "coopt": {"enabled": True},
+        "mujoco": {"enabled": True, "results_from": None, "weights": 2, "designs": [[[0.5, 0.5], [0.5, -0.5]]]},
+        "bundle_dir": "results/b",
+    },
+    "scen.yaml": {"scenario_file": "config/scenarios.yaml", "scenarios": "all"},
+    "from_bundle.yaml": {"results_dir": "fresh", "empirical": {"results_from": "results/survey"}},
+}
+_FLAGS = """
+import json, sys
+from pathlib import Path
+from snakemake.api import SnakemakeApi
+from snakemake.io import is_flagged
+from snakemake.settings.types import ConfigSettings, OutputSettings, ResourceSettings
+out = {}
+for files in json.loads(sys.argv[1]):
+    with SnakemakeApi(OutputSettings(quiet={"all"})) as api:
+        cs = ConfigSettings(configfiles=[Path(f) for f in files])
+        wf = api.workflow(resource_settings=ResourceSettings(), config_settings=cs, snakefile=Path("Snakefile"))
+        for r in wf._workflow.rules:
+            out[r.name] = [str(f) for f in r.output if not is_flagged(f, "update")]
+print(json.dumps(out))
+"""
+
+
+def test_every_rule_of_every_stage_keeps_its_previous_outputs(run: Path) -> None:
+    for name, cfg in _STAGE_CONFIGS.items():
+        (run / name).write_text(json.dumps(cfg))
+    sets = [["config/smoke.yaml", "stages.yaml"], ["config/smoke.yaml", "scen.yaml"], ["from_bundle.yaml"]]
+    proc = subprocess.run(
+        [str(Path(sys.executable)), "-c", _FLAGS, json.dumps(sets)],
+        cwd=run,
+        capture_output=True,
+        text=True,
+        timeout=600,
+        env={**os.environ, "MORPHLEARN_GIT_COMMIT": "test"},
+    )
+    assert proc.returncode == 0, proc.stderr[-3000:]
+    rules_seen = json.loads(proc.stdout.splitlines()[-1])
+    stages = {"learners_shard", "learners_analysis", "coopt_landscape", "coopt_runs", "coopt_analysis"}
+    stages |= {"scenario_shard", "scenario_merge", "scenario_metrics", "scenario_summary", "scenario_compare"}
+    stages |= {"scenario_report", "mujoco_shard", "empirical_from_bundle", "bundle", "optimise_morphology"}
+    assert stages <= set(rules_seen), sorted(stages - set(rules_seen))
+    assert {r: o for r, o in rules_seen.items() if o} == {}
+
+
+def _edited_table(run: Path, tmp_path: Path) -> Path:
+    """A sealed theory table of the smoke run (and its record), copied, with one row edited."""
+    t = tmp_path / "edited" / "theory" / "metrics.csv"
+    t.parent.mkdir(parents=True)
+    for name in ("metrics.csv", "metrics.provenance.json"):
+        shutil.copy2(run / "results/theory" / name, t.parent / name)
+    provenance.check_derived(t)  # as written, it passes
+    _csv_edit(t, generalists=1)
+    return t
+
+
+def _stage_settings(run: Path, **over: dict) -> settings_mod.Settings:
+    cfg = config_mod.deep_merge(config_mod.read(run / "config.yaml"), config_mod.read(run / "config/smoke.yaml"))
+    cwd = Path.cwd()
+    os.chdir(run)  # the body file is named relative to the project root
+    try:
+        return settings_mod.parse(config_mod.deep_merge(cfg, over))
+    finally:
+        os.chdir(cwd)
+
+
+def _learners(run: Path, table: Path, out: Path) -> None:
+    from morphlearn.learners import experiment
+
+    s = _stage_settings(run, learners={"enabled": True, "max_designs": 3})
+    experiment.run_analysis(s, [], str(table), out / "runs.csv", out / "corr.csv", out / "s.md", out / "c.json")
+
+
+def _coopt(run: Path, table: Path, out: Path) -> None:
+    from morphlearn.coopt import stage
+
+    s = _stage_settings(run, coopt={"enabled": True, "best_metrics": str(table)})
+    stage.run_analysis(s, [], [], out)
+
+
+def _coopt_landscape(run: Path, table: Path, out: Path) -> None:
+    from morphlearn.coopt import stage
+
+    s = _stage_settings(run, coopt={"enabled": True, "best_metrics": str(table)})
+    stage.run_landscape(s, "best_M_L", out / "best_M_L.json")
+
+
+def _scenarios(run: Path, table: Path, out: Path) -> None:
+    from morphlearn import scenarios
+
+    merged = {"0" * 16: str(run / "results/theory/merged.zarr")}
+    scenarios.run_compare(
+        {"base": str(table)}, merged, 3, out / "c.csv", out / "c.md", out / "t.csv", "", out / "r.json"
+    )
+
+
+@pytest.mark.parametrize("stage", [_learners, _coopt, _coopt_landscape, _scenarios], ids=lambda f: f.__name__)
+def test_a_stage_refuses_an_edited_metrics_table_before_reading_it(
+    run: Path, tmp_path: Path, stage: Callable[[Path, Path, Path], None]
+) -> None:
+    """The learner analysis, the co-optimisation's steps that read the best designs and the
+    scenario comparison check the metrics table against its sealed record first (they read the
+    edit before): CustodyError naming it, nothing written."""
+    table = _edited_table(run, tmp_path)
+    out = tmp_path / "out"
+    out.mkdir()
+    with pytest.raises(provenance.CustodyError, match=f"{table}: SHA-256 .* differs"):
+        stage(run, table, out)
+    assert list(out.iterdir()) == []
 
 
 # -- 3. check-bundle: a forger has to re-simulate ----------------------------------------------

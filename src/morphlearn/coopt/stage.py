@@ -10,12 +10,14 @@ import time
 from pathlib import Path
 from typing import Any
 
-from morphlearn import store
+from morphlearn import provenance, store
 from morphlearn.metrics import CSV_FLOAT_FORMAT
 from morphlearn.settings import CooptSettings, Settings
 
 #: The designs of the four-weight landscape: the canonical one and the best two-weight designs.
 LANDSCAPE_DESIGNS = ("canonical", "best_M_L", "best_M_CF")
+#: What the analysis writes (run_analysis), which its sealed record names.
+ANALYSIS_OUTPUTS = ("runs.csv", "summary.csv", "landscape.csv", "summary.md", "coopt.png")
 
 
 def variant_names(s: CooptSettings) -> list[str]:
@@ -91,17 +93,18 @@ def run_variant(settings: Settings, setup: str, variant: str, out: str | Path) -
 
 
 def run_analysis(settings: Settings, landscapes: list[str], run_csvs: list[str], out_dir: str | Path) -> None:
-    """runs.csv, summary.csv, landscape.csv, summary.md and coopt.png in ``out_dir``."""
+    """runs.csv, summary.csv, landscape.csv, summary.md and coopt.png in ``out_dir``, and their
+    sealed record summary.provenance.json (the inputs' digests and theirs)."""
     import pandas as pd
 
     from morphlearn.coopt import analysis, experiment
 
     s = settings.coopt
     out_dir = Path(out_dir)
+    best = experiment.best_design(s.best_metrics)  # first: it checks the table's custody
     runs = pd.concat([pd.read_csv(p) for p in run_csvs], ignore_index=True)
     runs = runs.sort_values(["setup", "learner", "sigma0", "protocol", "budget", "seed"], kind="stable")
     summary = analysis.sort_summary(experiment.summarise(runs, s))
-    best = experiment.best_design(s.best_metrics)
     rows = []
     for p in landscapes:
         r = json.loads(Path(p).read_text())
@@ -127,3 +130,6 @@ def run_analysis(settings: Settings, landscapes: list[str], run_csvs: list[str],
         tmp.write_text(analysis.summary_markdown(summary, land, s))
     with store.atomic_path(out_dir / "coopt.png") as tmp:
         analysis.figure(summary, runs, s.best_metrics, tmp, s.sigmas[0])
+    outputs = [out_dir / n for n in ANALYSIS_OUTPUTS]
+    rec = provenance.record(science(settings), [s.best_metrics, *landscapes, *run_csvs])
+    provenance.write_sealed(provenance.sidecar_of(out_dir / "summary.csv"), rec, outputs)

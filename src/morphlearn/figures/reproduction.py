@@ -450,7 +450,10 @@ def run(
 ) -> tuple[pd.DataFrame, pd.DataFrame]:
     """Load the results of the models of ``thresholds`` (model -> its thresholds: the models this
     config runs) and build (reproduction table, persistence table)."""
-    corr = pd.read_csv(Path(results_dir) / "learners" / "correlations.csv") if learners_enabled else None
+    corr = None
+    if learners_enabled:
+        provenance.check_derived(Path(results_dir) / "learners" / "correlations.csv")  # custody
+        corr = pd.read_csv(Path(results_dir) / "learners" / "correlations.csv")
     res = {m: fd.load_results(results_dir, m, th) for m, th in thresholds.items()}
     missing = [m for m, r in res.items() if r is None]
     if missing:
