@@ -483,7 +483,7 @@ def _stage_settings(run: Path, **over: dict) -> settings_mod.Settings:
 def _learners(run: Path, table: Path, out: Path) -> None:
     from morphlearn.learners import experiment
 
-    s = _stage_settings(run, learners={"enabled": True, "max_designs": 3})
+    s = _stage_settings(run, learners={"enabled": True, "max_designs": 3, "shards": 1})
     experiment.run_analysis(s, [], str(table), out / "runs.csv", out / "corr.csv", out / "s.md", out / "c.json")
 
 
