@@ -144,9 +144,9 @@ def cmd_check_bundle(a: argparse.Namespace) -> int:
         raise UsageError(f"{a.bundle}: no such folder (a results bundle, e.g. results/paper)")
     for which in a.resimulate:  # before the bundle is read (the index range is checked with it)
         try:
-            resimulate.parse_which(which)
+            resimulate.parse_which(which, "--resimulate")
         except bundle.BundleError as e:
-            raise UsageError(f"--resimulate: {e}") from None
+            raise UsageError(str(e)) from None
     problems = bundle_check.check(a.bundle)
     for line in problems:
         print(line)

@@ -19,17 +19,18 @@ from morphlearn.bundle import BundleError
 _NAMED = ("canonical", "best_M_L", "best_M_CF")
 
 
-def parse_which(which: str) -> tuple[str, str]:
+def parse_which(which: str, flag: str = "re-simulate") -> tuple[str, str]:
     """``[MODEL:]WHICH`` -> (model, which): the model a registered name (default: the reference
     model), WHICH one of canonical, best_M_L, best_M_CF, a design index or sample:K. Raises
-    BundleError naming what is allowed (the range of an index or K is checked with the table)."""
+    BundleError naming ``flag``, the value and what is allowed (the range of an index or K is
+    checked with the table)."""
     head, _, rest = which.partition(":")
     model, spec = (head, rest) if head in models.MODELS else (models.REFERENCE, which)
     k = spec.removeprefix("sample:")
     if spec in _NAMED or spec.isdigit() or (spec.startswith("sample:") and k.isdigit()):
         return model, spec
     raise BundleError(
-        f"re-simulate {which!r}: allowed: [MODEL:]WHICH, MODEL one of {', '.join(models.MODELS)} "
+        f"{flag} {which!r}: allowed: [MODEL:]WHICH, MODEL one of {', '.join(models.MODELS)} "
         f"(default {models.REFERENCE}), WHICH one of {', '.join(_NAMED)}, a design index >= 0 or sample:K"
     )
 
