@@ -88,15 +88,15 @@ def test_resimulated_designs_match_bundle(smoke_bundle: Path, tmp_path: Path) ->
     table.loc[table.design == d, "n_45"] += 1
     table.to_csv(copy / "theory/metrics.csv", index=False, float_format="%.10g")
     problems = resimulate.resimulate(copy, [str(d)])
-    assert len(problems) == 1 and problems[0].startswith(f"design {d}: metrics row"), problems
+    assert len(problems) == 1 and problems[0].startswith(f"theory design {d}: metrics row"), problems
     c = gridmod.DesignGrid(3).index_of(*gridmod.canonical_design())
     table.loc[table.design == c, "M_L"] += 1e-6  # counts intact, the metric edited
     table.to_csv(copy / "theory/metrics.csv", index=False, float_format="%.10g")
-    assert resimulate.resimulate(copy, ["canonical"])[0].startswith(f"design {c}: metrics row M_L, M_CF")
+    assert resimulate.resimulate(copy, ["canonical"])[0].startswith(f"theory design {c}: metrics row M_L, M_CF")
     held = set(json.loads((copy / bundle.MANIFEST).read_text())["subsets"]["theory"]["designs"])
     absent = min(set(table.design) - held)
     assert resimulate.resimulate(copy, [str(absent)]) == []  # re-simulated though not held (issue 24)
-    with pytest.raises(bundle.BundleError, match="allowed: canonical"):
+    with pytest.raises(bundle.BundleError, match=r"allowed: \[MODEL:\]WHICH"):
         resimulate.resimulate(copy, ["best"])
     assert cli.main(["check-bundle", str(smoke_bundle), "--resimulate", "canonical"]) == 0
     assert cli.main(["check-bundle", str(copy), "--resimulate", str(d)]) == 1

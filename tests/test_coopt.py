@@ -10,7 +10,7 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from morphlearn import config, settings
+from morphlearn import config, provenance, rules, settings
 from morphlearn.coopt import experiment as ex
 from morphlearn.coopt.landscape import landscape
 from morphlearn.coopt.setups import CANONICAL, decode, paper_setups
@@ -163,6 +163,12 @@ def test_stage_end_to_end_on_a_tiny_config(tmp_path) -> None:
 
     fig = analysis.figure(pd.read_csv(tmp_path / "out" / "summary.csv"), runs, pmap, 0.5)
     assert output.readability_problems(fig) == []
+    # custody (issue 24): the analysis is sealed; an edit of any of its files is refused at start
+    rules.check_custody([], [tmp_path / "out" / "summary.csv"])
+    with (tmp_path / "out" / "summary.md").open("a") as f:
+        f.write("edited\n")
+    with pytest.raises(provenance.CustodyError, match=r"summary\.md: SHA-256 .* differs"):
+        rules.check_custody([], [tmp_path / "out" / "summary.csv"])
 
 
 def test_position_map_is_the_best_m_l_with_the_sensor_there() -> None:

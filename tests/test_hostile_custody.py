@@ -14,6 +14,7 @@ import json
 import os
 import shutil
 import subprocess
+import sys
 from collections.abc import Callable
 from pathlib import Path
 
@@ -21,8 +22,11 @@ import pandas as pd
 import pytest
 from conftest import ROOT, snakemake
 
-from morphlearn import bundle, bundle_check, cli, metrics, provenance, resimulate, rules
+from morphlearn import bundle, bundle_check, cli, metrics, provenance, resimulate, rules, store
+from morphlearn import config as config_mod
+from morphlearn import settings as settings_mod
 from morphlearn.figures import caption, data
+from morphlearn.grid import ENV_ANGLES_DEG
 
 SMOKE = ("--configfile", "config/smoke.yaml")
 PAPER = ROOT / "results" / "paper"
@@ -402,6 +406,125 @@ def test_failed_reruns_keep_previous_outputs(run: Path) -> None:
             p.write_bytes(b)
 
 
+# -- 1-2 in the other stages: learners, co-optimisation, scenarios -----------------------------
+
+#: Every rule of these configs (stages on: learners, coopt, MuJoCo, a bundle; the scenarios; a
+#: physics model read from a bundle) has only update() outputs: a failed or refused rerun keeps
+#: the previous ones (the sweep's is shown end to end above). One process parses all three.
+_STAGE_CONFIGS = {
+    "stages.yaml": {
+        "learners": {"enabled": True, "max_designs": 3, "shards": 2},
+        "coopt": {"enabled": True},
+        "mujoco": {"enabled": True, "results_from": None, "weights": 2, "designs": [[[0.5, 0.5], [0.5, -0.5]]]},
+        "bundle_dir": "results/b",
+    },
+    "scen.yaml": {"scenario_file": "config/scenarios.yaml", "scenarios": "all"},
+    "from_bundle.yaml": {"results_dir": "fresh", "empirical": {"results_from": "results/survey"}},
+}
+_FLAGS = """
+import json, sys
+from pathlib import Path
+from snakemake.api import SnakemakeApi
+from snakemake.io import is_flagged
+from snakemake.settings.types import ConfigSettings, OutputSettings, ResourceSettings
+out = {}
+for files in json.loads(sys.argv[1]):
+    with SnakemakeApi(OutputSettings(quiet={"all"})) as api:
+        cs = ConfigSettings(configfiles=[Path(f) for f in files])
+        wf = api.workflow(resource_settings=ResourceSettings(), config_settings=cs, snakefile=Path("Snakefile"))
+        for r in wf._workflow.rules:
+            out[r.name] = [str(f) for f in r.output if not is_flagged(f, "update")]
+print(json.dumps(out))
+"""
+
+
+def test_every_rule_of_every_stage_keeps_its_previous_outputs(run: Path) -> None:
+    for name, cfg in _STAGE_CONFIGS.items():
+        (run / name).write_text(json.dumps(cfg))
+    sets = [["config/smoke.yaml", "stages.yaml"], ["config/smoke.yaml", "scen.yaml"], ["from_bundle.yaml"]]
+    proc = subprocess.run(
+        [str(Path(sys.executable)), "-c", _FLAGS, json.dumps(sets)],
+        cwd=run,
+        capture_output=True,
+        text=True,
+        timeout=600,
+        env={**os.environ, "MORPHLEARN_GIT_COMMIT": "test"},
+    )
+    assert proc.returncode == 0, proc.stderr[-3000:]
+    rules_seen = json.loads(proc.stdout.splitlines()[-1])
+    stages = {"learners_shard", "learners_analysis", "coopt_landscape", "coopt_runs", "coopt_analysis"}
+    stages |= {"scenario_shard", "scenario_merge", "scenario_metrics", "scenario_summary", "scenario_compare"}
+    stages |= {"scenario_report", "mujoco_shard", "empirical_from_bundle", "bundle", "optimise_morphology"}
+    assert stages <= set(rules_seen), sorted(stages - set(rules_seen))
+    assert {r: o for r, o in rules_seen.items() if o} == {}
+
+
+def _edited_table(run: Path, tmp_path: Path) -> Path:
+    """A sealed theory table of the smoke run (and its record), copied, with one row edited."""
+    t = tmp_path / "edited" / "theory" / "metrics.csv"
+    t.parent.mkdir(parents=True)
+    for name in ("metrics.csv", "metrics.provenance.json"):
+        shutil.copy2(run / "results/theory" / name, t.parent / name)
+    provenance.check_derived(t)  # as written, it passes
+    _csv_edit(t, generalists=1)
+    return t
+
+
+def _stage_settings(run: Path, **over: dict) -> settings_mod.Settings:
+    cfg = config_mod.deep_merge(config_mod.read(run / "config.yaml"), config_mod.read(run / "config/smoke.yaml"))
+    cwd = Path.cwd()
+    os.chdir(run)  # the body file is named relative to the project root
+    try:
+        return settings_mod.parse(config_mod.deep_merge(cfg, over))
+    finally:
+        os.chdir(cwd)
+
+
+def _learners(run: Path, table: Path, out: Path) -> None:
+    from morphlearn.learners import experiment
+
+    s = _stage_settings(run, learners={"enabled": True, "max_designs": 3, "shards": 1})
+    experiment.run_analysis(s, [], str(table), out / "runs.csv", out / "corr.csv", out / "s.md", out / "c.json")
+
+
+def _coopt(run: Path, table: Path, out: Path) -> None:
+    from morphlearn.coopt import stage
+
+    s = _stage_settings(run, coopt={"enabled": True, "best_metrics": str(table)})
+    stage.run_analysis(s, [], [], out)
+
+
+def _coopt_landscape(run: Path, table: Path, out: Path) -> None:
+    from morphlearn.coopt import stage
+
+    s = _stage_settings(run, coopt={"enabled": True, "best_metrics": str(table)})
+    stage.run_landscape(s, "best_M_L", out / "best_M_L.json")
+
+
+def _scenarios(run: Path, table: Path, out: Path) -> None:
+    from morphlearn import scenarios
+
+    merged = {"0" * 16: str(run / "results/theory/merged.zarr")}
+    scenarios.run_compare(
+        {"base": str(table)}, merged, 3, out / "c.csv", out / "c.md", out / "t.csv", "", out / "r.json"
+    )
+
+
+@pytest.mark.parametrize("stage", [_learners, _coopt, _coopt_landscape, _scenarios], ids=lambda f: f.__name__)
+def test_a_stage_refuses_an_edited_metrics_table_before_reading_it(
+    run: Path, tmp_path: Path, stage: Callable[[Path, Path, Path], None]
+) -> None:
+    """The learner analysis, the co-optimisation's steps that read the best designs and the
+    scenario comparison check the metrics table against its sealed record first (they read the
+    edit before): CustodyError naming it, nothing written."""
+    table = _edited_table(run, tmp_path)
+    out = tmp_path / "out"
+    out.mkdir()
+    with pytest.raises(provenance.CustodyError, match=f"{table}: SHA-256 .* differs"):
+        stage(run, table, out)
+    assert list(out.iterdir()) == []
+
+
 # -- 3. check-bundle: a forger has to re-simulate ----------------------------------------------
 
 
@@ -530,3 +653,101 @@ def test_a_sample_of_paper_rows_resimulates_exactly() -> None:
     """Two rows of the committed paper bundle drawn at random (seed 0), held or not, re-simulated
     at paper resolution (121 x 121 weights, 4 environments)."""
     assert resimulate.resimulate(PAPER, ["sample:2"]) == []
+
+
+# -- 3b. physics rows re-simulated on request (MODEL:WHICH, through the model registry) ---------
+
+
+def _consistent_forgery(table: Path, d: int) -> None:
+    """Replace the row of design ``d`` by another that is consistent in itself
+    (bundle_check.row_problems finds nothing): no success at all, or, where the row has none, one
+    success in the first environment."""
+    counts = [*(f"n_{a}" for a in ENV_ANGLES_DEG), "generalists", "at_least_one"]
+    none = dict.fromkeys([*counts, "M_L", "M_CF"], 0)
+    row = pd.read_csv(table).set_index("design").loc[d]
+    _csv_edit(table, d, **(none if row[counts].any() else none | {"n_45": 1, "at_least_one": 1}))
+
+
+def test_a_consistent_forgery_of_a_pybullet_row_needs_resimulation(run: Path, tmp_path: Path) -> None:
+    """The smoke bundle's pybullet rows (2 x 2 weights, early stop on): a consistent edit with the
+    manifest updated passes check-bundle; ``--resimulate empirical:D`` re-simulates that design with
+    the recorded science and catches it (was: refused as a usage error, theory rows only)."""
+    b = tmp_path / "forged"
+    shutil.copytree(run / "smoke-bundle", b)
+    d = int(pd.read_csv(b / "empirical/metrics.csv").design.iloc[0])
+    rc, out = _cli(str(b), "--resimulate", f"empirical:{d}")
+    assert rc == 0 and "agree exactly" in out, out
+    _consistent_forgery(b / "empirical/metrics.csv", d)
+    _reseal_manifest(b, "empirical/metrics.csv")
+    assert bundle_check.check(b) == []  # consistent in itself
+    rc, out = _cli(str(b), "--resimulate", f"empirical:{d}")
+    assert rc == 1 and f"empirical design {d}: metrics row" in out, out
+
+
+@pytest.fixture(scope="module")
+def mujoco_results(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    """MuJoCo results with every lever a survey records (mirror_derive, early stop, adaptive
+    weights) on the smallest grid: design 75 and its mirror 51, 3 x 3 weights; about 5 s."""
+    pytest.importorskip("mujoco")
+    from morphlearn import config, models, settings
+
+    out = tmp_path_factory.mktemp("mujoco")
+    section = {"enabled": True, "results_from": None, "weights": 3, "designs": [[[0.5, 0.5], [0.0, -0.5]]]}
+    section |= {"include_mirrors": True, "mirror_derive": True, "early_stop": True, "adaptive_weights": True}
+    cfg = config.deep_merge(
+        config.read(ROOT / "config.yaml"),
+        {
+            "results_dir": str(out),
+            "grid": {"positions_per_axis": 3, "weights": 5},
+            "sweep": {"shards": 1, "threads": 1},
+            "figures": {"enabled": False},
+            "empirical": {"enabled": False},
+            "mujoco": section | {"shards": 1},
+        },
+    )
+    cwd = Path.cwd()
+    os.chdir(ROOT)  # the body file is named relative to the project root
+    try:
+        s = settings.parse(cfg)
+    finally:
+        os.chdir(cwd)
+    shard = out / "mujoco/shards/shard_0.nc"
+    rules.run_shard(s, "mujoco", 0, shard)
+    rules.run_merge(s, "mujoco", [str(shard)], out / "mujoco/merged.zarr")
+    th = models.get("mujoco").thresholds(s)
+    rules.run_metrics("mujoco", th, out / "mujoco/merged.zarr", out / "mujoco/metrics.csv")
+    return out
+
+
+def test_mujoco_rows_resimulate_with_their_recorded_levers(mujoco_results: Path, tmp_path: Path) -> None:
+    """Both rows (51 simulated, 75 derived from it as the merge derives it) and their stored arrays
+    re-made exactly from the science record (levers included); a consistent forgery of either row
+    is caught."""
+    sci = store.science_of(store.open_merged(mujoco_results / "mujoco/merged.zarr"))
+    assert sci["mirror_derive"] and sci["early_stop"] and sci["adaptive_weights"], sci
+    assert resimulate.resimulate(mujoco_results, ["mujoco:51", "mujoco:75"]) == []
+    for d in (51, 75):
+        b = tmp_path / str(d)
+        shutil.copytree(mujoco_results, b)
+        _consistent_forgery(b / "mujoco/metrics.csv", d)
+        assert bundle_check.row_problems(pd.read_csv(b / "mujoco/metrics.csv"), 9) == []
+        (again,) = resimulate.resimulate(b, [f"mujoco:{d}"])
+        assert again.startswith(f"mujoco design {d}: metrics row"), again
+
+
+@pytest.mark.parametrize(
+    "which",
+    ["nomodel:1", "empirical:", "sample:x", "mujoco:canonical:2"],
+)
+def test_resimulate_refuses_an_unknown_model_or_design(which: str, capsys: pytest.CaptureFixture) -> None:
+    """Refused before the bundle is read: one line naming what is allowed, exit 2."""
+    rc, out = _cli(str(ROOT / "results/survey"), "--resimulate", which)
+    err = capsys.readouterr().err
+    assert rc == 2 and out == "" and "Traceback" not in err, (rc, out, err)
+    assert len(err.strip().splitlines()) == 1 and "allowed: [MODEL:]WHICH, MODEL one of theory, empirical" in err, err
+
+
+def test_resimulate_names_a_model_the_bundle_does_not_hold(mujoco_results: Path) -> None:
+    assert resimulate.resimulate(mujoco_results, ["empirical:1"]) == [
+        f"{mujoco_results}/empirical: no empirical results in this bundle (allowed models here: mujoco)"
+    ]

@@ -426,6 +426,31 @@ def test_workflow_refuses_duplicate_key_and_float_integer(wf: Path) -> None:
     assert "dup.yaml: key 'weights' given twice (lines 3 and 4)" in line, line
 
 
+@pytest.mark.parametrize("kind", ["empty", "binary", "list"])
+def test_a_bad_configfile_snakemake_reads_first_stops_before_anything_is_written(wf: Path, kind: str) -> None:
+    """The limit of the workflow's own check: Snakemake reads the files of ``--configfile`` in its
+    command line (snakemake.settings.types.ConfigSettings, before the Snakefile is parsed), so an
+    empty, binary, non-mapping or malformed one stops there: exit 1 in Snakemake's words (a
+    traceback for a binary file, and no file name), nothing written. Measured here so that the
+    README's account stays true; what reaches the Snakefile (a key given twice, a wrong shape under
+    a key) is refused in one line, exit 2 (the tests beside this one)."""
+    (wf / "bad.yaml").write_bytes(BAD_FILES[kind][0])
+    exe = Path(sys.executable).with_name("snakemake")
+    before = sorted(p.relative_to(wf) for p in wf.rglob("*"))
+    proc = subprocess.run(
+        [str(exe), "-n", "--cores", "1", "--configfile", "small.yaml", "bad.yaml"],
+        cwd=wf,
+        capture_output=True,
+        text=True,
+        timeout=300,
+    )
+    said = (proc.stdout + proc.stderr).splitlines()
+    first = next((line for line in said if line.strip()), "")
+    assert proc.returncode == 1 and not any(ln.startswith("morphlearn") for ln in said), said
+    assert first == ("Traceback (most recent call last):" if kind == "binary" else "WorkflowError:"), said
+    assert sorted(p.relative_to(wf) for p in wf.rglob("*")) == before  # nothing written
+
+
 def test_workflow_refuses_a_wildcard_results_dir(wf: Path) -> None:
     line = _start_refusal(wf, "--configfile", "small.yaml", "--config", "results_dir=out{x}")
     assert line.startswith("morphlearn: config error: results_dir = 'out{x}' holds"), line

@@ -47,6 +47,11 @@ def test_learner_stage_runs_caches_and_reports(smoke_run: Path, tmp_path: Path) 
     snakemake(wd, "results/learners/shards/shard_0.csv", *ARGS)
     assert "reused 2, to run 0" in (wd / "results/logs/learners/shard_0.log").read_text()
     assert shard.read_bytes() == before  # deterministic
+    # custody (issue 24): the analysis is sealed; an edited correlation stops the next start, exit 2
+    corr = wd / "results/learners/correlations.csv"
+    corr.write_text(corr.read_text().replace("0.", "0.9", 1))
+    refused = snakemake(wd, *targets, "-n", *ARGS, check=False)
+    assert refused.returncode == 2 and "learners/correlations.csv: SHA-256" in refused.stderr, refused.stderr[-2000:]
 
 
 def test_bad_learner_config_stops_with_one_line(tmp_path: Path) -> None:

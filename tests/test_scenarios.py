@@ -199,3 +199,8 @@ def test_scenario_workflow_smoke(tmp_path: Path) -> None:
     # a subset re-uses the simulation and the scenarios' metrics: only its comparison is new
     again = snakemake(wd, "-n", "--cores", "1", *over, "scenarios=short")
     assert set(job_stats(again.stdout)) == {"scenario_compare", "scenario_report", "all"}
+    # custody (issue 24): an edited scenario table stops the next start, by name, exit 2
+    table = out / "short" / "theory" / "metrics.csv"
+    table.write_text(table.read_text().replace(",0,", ",1,", 1))
+    refused = snakemake(wd, "-n", "--cores", "1", *over, "scenarios=all", check=False)
+    assert refused.returncode == 2 and f"{table.relative_to(wd)}: SHA-256" in refused.stderr, refused.stderr[-2000:]

@@ -32,7 +32,7 @@ from morphlearn import grid as gridmod
 
 #: Files copied from the run's results folder, when present (paths relative to it).
 #: The learner stage's small tables (its figure and reproduction rows read them).
-LEARNER_FILES = ("runs.csv", "correlations.csv", "summary.md")
+LEARNER_FILES = ("runs.csv", "correlations.csv", "summary.md", "correlations.provenance.json")
 COPIED = (
     "summary.json",
     "summary.md",
@@ -149,7 +149,7 @@ def build(run_dir: str | Path, out_dir: str | Path, *, top: int, made_by: dict[s
     if REFERENCE not in models:
         raise BundleError(f"{run_dir}: no {REFERENCE}/metrics.csv; run the workflow first")
     subsets: dict[str, Any] = {}
-    for name in ("summary.json", "reproduction.csv"):  # custody: what their records name
+    for name in ("summary.json", "reproduction.csv", "learners/correlations.csv"):  # custody: as recorded
         if provenance.sidecar_of(run_dir / name).is_file():
             provenance.check_derived(run_dir / name)
     with store.atomic_path(out_dir) as tmp:

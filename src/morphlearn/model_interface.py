@@ -116,6 +116,12 @@ class Model(ABC):
     @abstractmethod
     def resources(self, s: Settings) -> Resources: ...
 
+    def resimulate(self, science: Mapping[str, Any], designs: np.ndarray) -> list[DesignResult]:
+        """Results of ``designs`` re-made from a science record (a bundle's store), the way the run
+        that recorded it made them, its levers included (``morphlearn check-bundle --resimulate``).
+        A model that cannot re-make its results from its record raises NotImplementedError."""
+        raise NotImplementedError(f"model {self.name!r} cannot re-simulate from its science record")
+
     # -- reading its records -----------------------------------------------------------------------
     @abstractmethod
     def positions_of(self, science: Mapping[str, Any]) -> int:

@@ -1,5 +1,7 @@
-"""Re-simulating a bundle's theory designs and comparing them with its stored rows and arrays,
-bit for bit (``morphlearn check-bundle --resimulate``)."""
+"""Re-simulating a bundle's designs and comparing them with its stored rows and arrays, bit for bit
+(``morphlearn check-bundle --resimulate``). Any registered model that can re-make its results
+from its science record (:meth:`morphlearn.model_interface.Model.resimulate`): the theory in
+seconds, a physics engine's design on request (its levers as the run recorded them)."""
 
 from __future__ import annotations
 
@@ -10,38 +12,72 @@ import numpy as np
 import pandas as pd
 
 from morphlearn import grid as gridmod
-from morphlearn import metrics, provenance, store
+from morphlearn import metrics, models, provenance, store
 from morphlearn.bundle import BundleError
+
+#: What names designs (after an optional ``MODEL:``).
+_NAMED = ("canonical", "best_M_L", "best_M_CF")
+
+
+def parse_which(which: str, flag: str = "re-simulate") -> tuple[str, str]:
+    """``[MODEL:]WHICH`` -> (model, which): the model a registered name (default: the reference
+    model), WHICH one of canonical, best_M_L, best_M_CF, a design index or sample:K. Raises
+    BundleError naming ``flag``, the value and what is allowed (the range of an index or K is
+    checked with the table)."""
+    head, _, rest = which.partition(":")
+    model, spec = (head, rest) if head in models.MODELS else (models.REFERENCE, which)
+    k = spec.removeprefix("sample:")
+    if spec in _NAMED or spec.isdigit() or (spec.startswith("sample:") and k.isdigit()):
+        return model, spec
+    raise BundleError(
+        f"{flag} {which!r}: allowed: [MODEL:]WHICH, MODEL one of {', '.join(models.MODELS)} "
+        f"(default {models.REFERENCE}), WHICH one of {', '.join(_NAMED)}, a design index >= 0 or sample:K"
+    )
 
 
 def resimulate(out_dir: str | Path, which: Iterable[str] = ("canonical", "best_M_L")) -> list[str]:
-    """Re-simulate theory designs of a bundle from its recorded science and compare with it.
+    """Re-simulate designs of a bundle from its recorded science and compare with it.
 
-    ``which``: ``canonical``, ``best_M_L``, ``best_M_CF``, a design index, or ``sample:K`` (K
-    designs drawn at random, seed 0, from all rows). Each design's metrics row (counts per
-    environment, generalists, flagged) and, when the bundle holds them, its stored outcome arrays
-    must come out exactly; the problems found are returned (empty: every design agrees). The
-    thresholds are the ones the bundle's metrics were computed with (its provenance record).
+    ``which``: ``[MODEL:]WHICH`` (:func:`parse_which`); ``sample:K`` draws K designs at random,
+    seed 0, from all rows of that model's table. Each design's metrics row (counts per environment,
+    generalists, flagged) and, when the bundle holds them, its stored outcome arrays must come out
+    exactly; the problems found are returned (empty: every design agrees). The thresholds are the
+    ones the bundle's metrics were computed with (its provenance record).
     """
-    from morphlearn.theory import TheoryParams, evaluate
-
     out_dir = Path(out_dir)
-    merged = store.open_merged(out_dir / "theory" / "merged.zarr")
+    by_model: dict[str, list[str]] = {}
+    for w in which:
+        model, spec = parse_which(w)
+        by_model.setdefault(model, []).append(spec)
+    problems = []
+    for model, specs in by_model.items():
+        problems += _resimulate_model(out_dir, model, specs)
+    return problems
+
+
+def _resimulate_model(out_dir: Path, model: str, which: list[str]) -> list[str]:
+    m = models.get(model)
+    folder = out_dir / model
+    if not (folder / "merged.zarr").is_dir():
+        return [f"{folder}: no {model} results in this bundle (allowed models here: {_held_models(out_dir)})"]
+    merged = store.open_merged(folder / "merged.zarr")
     sci = store.science_of(merged)
-    table = pd.read_csv(out_dir / "theory" / "metrics.csv")
-    prov = provenance.read_record(out_dir / "theory" / "metrics.provenance.json")
+    table = pd.read_csv(folder / "metrics.csv")
+    prov = provenance.read_record(folder / "metrics.provenance.json")
     th = metrics.Thresholds(**prov["config"]["thresholds"])
-    g = gridmod.DesignGrid(sci["grid"]["positions_per_axis"])
-    params = TheoryParams.from_config(sci["theory"])
+    g = gridmod.DesignGrid(m.positions_of(sci))
     wanted = [d for w in which for d in _designs_of(w, table, g)]
     held = set(int(d) for d in merged["design"].values)
     # any row of the table, held or not: an edited row of a design whose arrays the bundle does
     # not hold is caught too (a forger has to re-simulate); the arrays are compared where held
-    problems = [f"design {d}: no row in {out_dir}/theory/metrics.csv" for d in wanted if d not in set(table.design)]
+    problems = [f"{model} design {d}: no row in {folder}/metrics.csv" for d in wanted if d not in set(table.design)]
     todo = sorted({d for d in wanted if d in set(table.design)})
     if not todo:
         return problems
-    results = evaluate(g.coords(np.array(todo)), gridmod.weights(sci["grid"]["weights"]), params)
+    try:
+        results = m.resimulate(sci, np.array(todo, dtype=np.int64))
+    except (NotImplementedError, ValueError) as e:
+        return [*problems, f"{model}: cannot re-simulate ({e})"]
     for d, res in zip(todo, results, strict=True):
         dm = metrics.design_metrics(metrics.success(res.first_time, res.min_dist, th), res.status)
         row = table[table.design == d].iloc[0]
@@ -54,12 +90,13 @@ def resimulate(out_dir: str | Path, which: Iterable[str] = ("canonical", "best_M
         fresh = [*dm.per_env, dm.generalists, dm.at_least_one, dm.flagged]
         if stored != fresh:
             problems.append(
-                f"design {d}: metrics row {stored} (per env, generalists, at least one, "
+                f"{model} design {d}: metrics row {stored} (per env, generalists, at least one, "
                 f"flagged) but re-simulated {fresh}"
             )
         elif [row.M_L, row.M_CF] != [float(metrics.CSV_FLOAT_FORMAT % x) for x in (dm.M_L, dm.M_CF)]:
             problems.append(
-                f"design {d}: metrics row M_L, M_CF = {row.M_L}, {row.M_CF} but re-simulated {dm.M_L}, {dm.M_CF}"
+                f"{model} design {d}: metrics row M_L, M_CF = {row.M_L}, {row.M_CF} but re-simulated "
+                f"{dm.M_L}, {dm.M_CF}"
             )
         if d not in held:
             continue
@@ -67,11 +104,17 @@ def resimulate(out_dir: str | Path, which: Iterable[str] = ("canonical", "best_M
         for v in store.VARS:
             a, b = one[v], getattr(res, v)
             differ = a != b
-            if a.dtype.kind == "f":  # NaN (never succeeded) equals NaN here
+            if a.dtype.kind == "f":  # NaN (never succeeded, or not simulated) equals NaN here
                 differ &= ~(np.isnan(a) & np.isnan(b))
             if differ.any():
-                problems.append(f"design {d}: stored {v} differs from the re-simulation in {int(differ.sum())} cells")
+                problems.append(
+                    f"{model} design {d}: stored {v} differs from the re-simulation in {int(differ.sum())} cells"
+                )
     return problems
+
+
+def _held_models(out_dir: Path) -> str:
+    return ", ".join(n for n in models.MODELS if (out_dir / n / "merged.zarr").is_dir()) or "none"
 
 
 def _designs_of(which: str, table: pd.DataFrame, g: gridmod.DesignGrid) -> list[int]:

@@ -452,11 +452,15 @@ def run_compare(
     out_md: str | Path,
     out_scan: str | Path,
     plan_md: str,
+    out_record: str | Path | None = None,
 ) -> None:
     """The comparison table (compare), and the threshold scan of every simulation for the
-    paper's text values (threshold_scan), closest first."""
-    from morphlearn import store
+    paper's text values (threshold_scan), closest first; with ``out_record`` their sealed record.
+    Every scenario's table is checked against its record before it is read (custody)."""
+    from morphlearn import provenance, store
 
+    for p in tables.values():
+        provenance.check_derived(p)
     comp = compare({n: pd.read_csv(p) for n, p in tables.items()}, top=top)
     scans = [threshold_scan(path).assign(simulation=sid) for sid, path in merged.items()]
     scan = pd.concat(scans, ignore_index=True).sort_values(["text_distance", "r", "horizon", "radius"])
@@ -466,6 +470,9 @@ def run_compare(
         scan.to_csv(tmp, index=False, float_format="%.6g")
     with store.atomic_path(Path(out_md)) as tmp:
         tmp.write_text(comparison_markdown(comp, scan, top, plan_md))
+    if out_record is not None:
+        rec = provenance.record({"scenarios": sorted(tables), "top": top}, [*tables.values()])
+        provenance.write_sealed(out_record, rec, [out_csv, out_md, out_scan])
 
 
 def comparison_markdown(comp: pd.DataFrame, scan: pd.DataFrame, top: int, plan_md: str) -> str:

@@ -69,17 +69,23 @@ if not S.render_only and workflow.is_main_process and "--unlock" not in sys.argv
             sys.exit(2)
 
 
-# Custody: a metrics table edited or damaged since its rule wrote it stops the run here, before
-# anything is written (the summary, the table and the figures would follow the edit).
-if not S.render_only and workflow.is_main_process and "--unlock" not in sys.argv:
+def custody_at_start(tables, derived=()):
+    """Custody: a metrics table (``tables``) or a derived file with a record (``derived``) edited
+    or damaged since its rule wrote it stops the run here, before anything is written (what reads
+    it would follow the edit); every stage calls it for the files it reads."""
+    if S.render_only or not workflow.is_main_process or "--unlock" in sys.argv:
+        return
     try:
-        rules.check_custody(
-            [f"{R}/{m}/metrics.csv" for m in MODELS],
-            [f"{R}/summary.json", f"{R}/reproduction.csv"],
-        )
+        rules.check_custody(tables, derived)
     except provenance.CustodyError as err:
         print(f"morphlearn: {err}; nothing was run", file=sys.stderr)
         sys.exit(2)
+
+
+custody_at_start(
+    [f"{R}/{m}/metrics.csv" for m in MODELS],
+    [f"{R}/summary.json", f"{R}/reproduction.csv"],
+)
 
 
 def shard_ids(model):

@@ -1,6 +1,11 @@
 # Co-optimising the body against a four-synapse controller (beyond the paper, issue 27;
 # docs/coopt.md): the four-weight landscape of three designs, one job per setup and learner
-# variant (its CSV is the cache: a finished job is not rerun), then the analysis.
+# variant (its CSV is the cache: a finished job is not rerun), then the analysis. Custody as the
+# sweep's (common.smk): outputs update(), the analysis sealed (summary.provenance.json), the
+# metrics table it reads and its record checked at start and by every step before reading.
+
+
+custody_at_start([S.coopt.best_metrics], [f"{R}/coopt/summary.csv"])
 
 
 localrules:
@@ -11,7 +16,7 @@ rule coopt_landscape:
     input:
         S.coopt.best_metrics,
     output:
-        f"{R}/coopt/landscape/{{design}}.json",
+        update(f"{R}/coopt/landscape/{{design}}.json"),
     log:
         f"{R}/logs/coopt/landscape_{{design}}.log",
     benchmark:
@@ -31,7 +36,7 @@ rule coopt_runs:
     input:
         S.coopt.best_metrics,
     output:
-        f"{R}/coopt/runs/{{setup}}_{{variant}}.csv",
+        update(f"{R}/coopt/runs/{{setup}}_{{variant}}.csv"),
     log:
         f"{R}/logs/coopt/runs_{{setup}}_{{variant}}.log",
     benchmark:
@@ -61,12 +66,13 @@ rule coopt_analysis:
             variant=coopt_stage.variant_names(S.coopt),
         ),
     output:
-        runs=f"{R}/coopt/runs.csv",
-        summary=f"{R}/coopt/summary.csv",
-        landscape=f"{R}/coopt/landscape.csv",
-        md=f"{R}/coopt/summary.md",
+        runs=update(f"{R}/coopt/runs.csv"),
+        summary=update(f"{R}/coopt/summary.csv"),
+        landscape=update(f"{R}/coopt/landscape.csv"),
+        md=update(f"{R}/coopt/summary.md"),
         # the figure's background (M_L by sensor position); the figure is figure_coopt
-        position_map=f"{R}/coopt/position_map.csv",
+        position_map=update(f"{R}/coopt/position_map.csv"),
+        provenance=update(f"{R}/coopt/summary.provenance.json"),
     log:
         f"{R}/logs/coopt/analysis.log",
     conda:

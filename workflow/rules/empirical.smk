@@ -5,9 +5,10 @@
 # regenerates the Pareto set and a candidate morphology with the configured budget.
 rule optimise_morphology:
     output:
-        pareto=f"{R}/morphology/pareto.csv",
-        plot=f"{R}/morphology/pareto.png",
-        chosen=f"{R}/morphology/empirical_morphology.yaml",
+        # update: a failed or refused rerun keeps the previous set (as every rule's, common.smk)
+        pareto=update(f"{R}/morphology/pareto.csv"),
+        plot=update(f"{R}/morphology/pareto.png"),
+        chosen=update(f"{R}/morphology/empirical_morphology.yaml"),
     log:
         f"{R}/logs/morphology/optimise.log",
     benchmark:

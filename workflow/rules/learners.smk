@@ -1,5 +1,10 @@
 # Real learners on the theory model (beyond the paper, issue 15): one job per shard of designs,
-# then the analysis against the theory metrics (M_L, M_CF).
+# then the analysis against the theory metrics (M_L, M_CF). Custody as the sweep's (common.smk):
+# outputs update() (a refused rerun keeps them), the analysis sealed (correlations.provenance.json)
+# and checked, with the table it reads, at start and by its readers.
+
+
+custody_at_start([], [f"{R}/learners/correlations.csv"])
 
 
 localrules:
@@ -8,7 +13,7 @@ localrules:
 
 rule learners_shard:
     output:
-        f"{R}/learners/shards/shard_{{shard}}.csv",
+        update(f"{R}/learners/shards/shard_{{shard}}.csv"),
     log:
         f"{R}/logs/learners/shard_{{shard}}.log",
     benchmark:
@@ -38,9 +43,10 @@ rule learners_analysis:
         ),
         metrics=f"{R}/theory/metrics.csv",
     output:
-        runs=f"{R}/learners/runs.csv",
-        correlations=f"{R}/learners/correlations.csv",
-        md=f"{R}/learners/summary.md",
+        runs=update(f"{R}/learners/runs.csv"),
+        correlations=update(f"{R}/learners/correlations.csv"),
+        md=update(f"{R}/learners/summary.md"),
+        provenance=update(f"{R}/learners/correlations.provenance.json"),
     log:
         f"{R}/logs/learners/analysis.log",
     benchmark:

@@ -1,6 +1,8 @@
 # Named scenarios (docs/scenarios.md; the science is morphlearn.scenarios). Included instead of
 # the main workflow when `scenarios` is set: simulations shared between scenarios under
-# {SR}/_sims/<science digest>/, one results folder per scenario, and their comparison.
+# {SR}/_sims/<science digest>/, one results folder per scenario, and their comparison. Custody as
+# the sweep's (common.smk): outputs update() (a refused rerun keeps them), the tables, summaries and
+# comparison sealed, checked at start and by their readers.
 import re
 from dataclasses import asdict
 
@@ -18,6 +20,10 @@ SR = scenmod.scenarios_dir(S)
 SIM_SHARDS = {
     sid: models.get("theory").shard_designs(sim) for sid, sim in PLAN.sims.items()
 }
+custody_at_start(
+    [f"{SR}/{s}/theory/metrics.csv" for s in SCENARIO_NAMES],
+    [*(f"{SR}/{s}/summary.json" for s in SCENARIO_NAMES), f"{SR}/comparison.csv"],
+)
 SCENARIO_TARGETS = [
     f"{SR}/comparison.md",
     f"{SR}/comparison.png",
@@ -40,7 +46,7 @@ localrules:
 
 rule scenario_shard:
     output:
-        f"{SR}/_sims/{{sim}}/shards/shard_{{shard}}.nc",
+        update(f"{SR}/_sims/{{sim}}/shards/shard_{{shard}}.nc"),
     log:
         f"{SR}/_sims/{{sim}}/logs/shard_{{shard}}.log",
     benchmark:
@@ -84,8 +90,10 @@ rule scenario_metrics:
     input:
         lambda w: f"{SR}/_sims/{PLAN.answers[w.scenario].sim}/merged.zarr",
     output:
-        table=f"{SR}/{{scenario}}/theory/metrics.csv",
-        record=f"{SR}/{{scenario}}/scenario.json",
+        table=update(f"{SR}/{{scenario}}/theory/metrics.csv"),
+        # custody: the table's sealed record (rules.run_metrics)
+        provenance=update(f"{SR}/{{scenario}}/theory/metrics.provenance.json"),
+        record=update(f"{SR}/{{scenario}}/scenario.json"),
     log:
         f"{SR}/{{scenario}}/logs/metrics.log",
     benchmark:
@@ -111,8 +119,9 @@ rule scenario_summary:
     input:
         theory=f"{SR}/{{scenario}}/theory/metrics.csv",
     output:
-        json=f"{SR}/{{scenario}}/summary.json",
-        md=f"{SR}/{{scenario}}/summary.md",
+        json=update(f"{SR}/{{scenario}}/summary.json"),
+        md=update(f"{SR}/{{scenario}}/summary.md"),
+        provenance=update(f"{SR}/{{scenario}}/summary.provenance.json"),
     log:
         f"{SR}/{{scenario}}/logs/summary.log",
     benchmark:
@@ -130,9 +139,10 @@ rule scenario_compare:
         tables=expand(f"{SR}/{{s}}/theory/metrics.csv", s=SCENARIO_NAMES),
         merged=expand(f"{SR}/_sims/{{sim}}/merged.zarr", sim=sorted(PLAN.sims)),
     output:
-        csv=f"{SR}/comparison.csv",
-        md=f"{SR}/comparison.md",
-        scan=f"{SR}/text_values.csv",
+        csv=update(f"{SR}/comparison.csv"),
+        md=update(f"{SR}/comparison.md"),
+        scan=update(f"{SR}/text_values.csv"),
+        provenance=update(f"{SR}/comparison.provenance.json"),
     log:
         f"{SR}/logs/compare.log",
     benchmark:
@@ -157,13 +167,13 @@ rule scenario_report:
         scan=f"{SR}/text_values.csv",
     output:
         png=report(
-            f"{SR}/comparison.png",
+            update(f"{SR}/comparison.png"),
             caption=str(Path(f"{SR}/comparison.caption.md").resolve()),
             category="Scenarios",
         ),
-        caption=f"{SR}/comparison.caption.md",
-        pdf=f"{SR}/comparison.pdf",
-        html=f"{SR}/comparison.html",
+        caption=update(f"{SR}/comparison.caption.md"),
+        pdf=update(f"{SR}/comparison.pdf"),
+        html=update(f"{SR}/comparison.html"),
     log:
         notebook=f"{SR}/logs/comparison.ipynb",
         text=f"{SR}/logs/comparison.log",

@@ -10,4 +10,4 @@ s = setup(snakemake)  # noqa: F821
 from morphlearn.learners import experiment  # noqa: E402
 
 inp, out = snakemake.input, snakemake.output  # noqa: F821
-experiment.run_analysis(s, list(inp.shards), inp.metrics, out.runs, out.correlations, out.md)
+experiment.run_analysis(s, list(inp.shards), inp.metrics, out.runs, out.correlations, out.md, out.provenance)

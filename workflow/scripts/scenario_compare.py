@@ -12,4 +12,5 @@ from morphlearn import scenarios  # noqa: E402
 smk = snakemake  # noqa: F821
 tables = dict(zip(smk.params.names, smk.input.tables, strict=True))
 merged = dict(zip(smk.params.sims, smk.input.merged, strict=True))
-scenarios.run_compare(tables, merged, smk.params.top, smk.output.csv, smk.output.md, smk.output.scan, smk.params.plan)
+out = smk.output
+scenarios.run_compare(tables, merged, smk.params.top, out.csv, out.md, out.scan, smk.params.plan, out.provenance)

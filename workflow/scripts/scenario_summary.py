@@ -10,4 +10,4 @@ smk = snakemake  # noqa: F821
 s = setup(smk, smk.params.cfg)
 from morphlearn import summary  # noqa: E402
 
-summary.run_summary(s, dict(smk.input.items()), smk.output.json, smk.output.md)
+summary.run_summary(s, dict(smk.input.items()), smk.output.json, smk.output.md, smk.output.provenance)

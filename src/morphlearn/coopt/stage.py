@@ -10,12 +10,14 @@ import time
 from pathlib import Path
 from typing import Any
 
-from morphlearn import store
+from morphlearn import provenance, store
 from morphlearn.metrics import CSV_FLOAT_FORMAT
 from morphlearn.settings import CooptSettings, Settings
 
 #: The designs of the four-weight landscape: the canonical one and the best two-weight designs.
 LANDSCAPE_DESIGNS = ("canonical", "best_M_L", "best_M_CF")
+#: What the analysis writes (run_analysis), which its sealed record names.
+ANALYSIS_OUTPUTS = ("runs.csv", "summary.csv", "landscape.csv", "summary.md", "position_map.csv")
 
 
 def variant_names(s: CooptSettings) -> list[str]:
@@ -91,18 +93,19 @@ def run_variant(settings: Settings, setup: str, variant: str, out: str | Path) -
 
 
 def run_analysis(settings: Settings, landscapes: list[str], run_csvs: list[str], out_dir: str | Path) -> None:
-    """runs.csv, summary.csv, landscape.csv, summary.md and position_map.csv in ``out_dir`` (the
-    figure is a registered figure notebook, notebooks/coopt.ipynb, that reads them)."""
+    """runs.csv, summary.csv, landscape.csv, summary.md and position_map.csv in ``out_dir``, and
+    their sealed record summary.provenance.json (the inputs' digests and theirs). The figure is a
+    registered figure notebook, notebooks/coopt.ipynb, that reads them."""
     import pandas as pd
 
     from morphlearn.coopt import analysis, experiment
 
     s = settings.coopt
     out_dir = Path(out_dir)
+    best = experiment.best_design(s.best_metrics)  # first: it checks the table's custody
     runs = pd.concat([pd.read_csv(p) for p in run_csvs], ignore_index=True)
     runs = runs.sort_values(["setup", "learner", "sigma0", "protocol", "budget", "seed"], kind="stable")
     summary = analysis.sort_summary(experiment.summarise(runs, s))
-    best = experiment.best_design(s.best_metrics)
     rows = []
     for p in landscapes:
         r = json.loads(Path(p).read_text())
@@ -128,3 +131,6 @@ def run_analysis(settings: Settings, landscapes: list[str], run_csvs: list[str],
             table.to_csv(tmp, index=False, float_format=CSV_FLOAT_FORMAT)
     with store.atomic_path(out_dir / "summary.md") as tmp:
         tmp.write_text(analysis.summary_markdown(summary, land, s))
+    outputs = [out_dir / n for n in ANALYSIS_OUTPUTS]
+    rec = provenance.record(science(settings), [s.best_metrics, *landscapes, *run_csvs])
+    provenance.write_sealed(provenance.sidecar_of(out_dir / "summary.csv"), rec, outputs)

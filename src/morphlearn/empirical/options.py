@@ -12,6 +12,7 @@ Plain data (no pybullet): the config parses into it, the science record is made 
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import Any
 
@@ -37,6 +38,26 @@ class SweepOptions:
             adaptive_weights=bool(emp.get("adaptive_weights", False)),
             near=float(emp.get("adaptive_near", DEFAULT_NEAR)),
         )
+
+    @classmethod
+    def from_science(cls, sci: Mapping[str, Any]) -> SweepOptions:
+        """The levers a science record says its run used (the inverse of :meth:`science`); a
+        ValueError for a record this code would not reproduce (another reach-check interval)."""
+        es, ad = sci.get("early_stop"), sci.get("adaptive_weights")
+        try:
+            out = cls(
+                early_stop=bool(es),
+                margin=float(es["margin"]) if es else DEFAULT_MARGIN,
+                adaptive_weights=bool(ad),
+                stride=int(ad["stride"]) if ad else DEFAULT_STRIDE,
+                near=float(ad["near"]) if ad else DEFAULT_NEAR,
+            )
+        except (TypeError, KeyError, ValueError) as e:
+            raise ValueError(f"levers of the science record unreadable ({type(e).__name__}: {e})") from None
+        recorded = {k: sci[k] for k in ("early_stop", "adaptive_weights") if k in sci}
+        if out.science() != recorded:
+            raise ValueError(f"levers {recorded} recorded, this code runs {out.science()} (not reproducible here)")
+        return out
 
     def science(self) -> dict[str, Any]:
         """The science-record entries of the levers that are on (none when all are off, so the

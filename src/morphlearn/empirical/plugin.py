@@ -246,6 +246,30 @@ class Physics(Model):
                 done(i, out[-1])
         return out
 
+    def resimulate(self, science: Mapping[str, Any], designs: np.ndarray) -> list[DesignResult]:
+        from morphlearn import grid as gridmod
+        from morphlearn import store
+        from morphlearn.results import DesignResult
+
+        g = gridmod.DesignGrid(self.positions_of(science))
+        w = gridmod.weights(science["weights"])
+        params = EmpiricalParams.from_mapping(science["params"])
+        options = SweepOptions.from_science(science)  # early stop, adaptive grid: as the run had them
+        evaluate_design = self.design_evaluator()
+        out, made = [], {}
+        for d in (int(x) for x in designs):
+            # mirror_derive: the run simulated one of each mirror pair (the lower index) and derived
+            # the other from it (store.merge_shards); an engine is symmetric only to tolerance
+            src = min(d, int(g.mirror(d))) if science.get("mirror_derive") else d
+            if src not in made:
+                c = g.coords(np.array([src]))[0]
+                made[src] = evaluate_design((c[0], c[1]), (c[2], c[3]), w, params, options=options)
+            r = made[src]
+            if src != d:
+                r = DesignResult(**store.mirror_arrays({v: getattr(r, v) for v in store.VARS}))
+            out.append(r)
+        return out
+
     def backend(self, s: Settings) -> dict[str, str]:
         return {"backend": self.engine, "device": f"cpu ({platform.machine()})"}
 

@@ -519,10 +519,14 @@ def run(
     """Load the results of the models of ``thresholds`` (model -> its thresholds: the models this
     config runs) and build (reproduction table, persistence table). ``coopt_sigma``: the coopt
     stage ran (its rows use the evolution strategies at that step)."""
-    corr = pd.read_csv(Path(results_dir) / "learners" / "correlations.csv") if learners_enabled else None
+    corr = None
+    if learners_enabled:
+        provenance.check_derived(Path(results_dir) / "learners" / "correlations.csv")  # custody
+        corr = pd.read_csv(Path(results_dir) / "learners" / "correlations.csv")
     coopt = None
     if coopt_sigma is not None:
         c = Path(results_dir) / "coopt"
+        provenance.check_derived(c / "summary.csv")  # custody: the analysis's sealed record
         coopt = (pd.read_csv(c / "summary.csv"), pd.read_csv(c / "landscape.csv"), coopt_sigma)
     res = {m: fd.load_results(results_dir, m, th) for m, th in thresholds.items()}
     missing = [m for m, r in res.items() if r is None]

@@ -17,7 +17,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 import pandas as pd
 
-from morphlearn import design_cache, models, store
+from morphlearn import design_cache, models, provenance, store
 from morphlearn.grid import split_shards
 from morphlearn.metrics import CSV_FLOAT_FORMAT
 from morphlearn.settings import LearnerSettings, Settings
@@ -146,12 +146,15 @@ def run_analysis(
     out_runs: str | Path,
     out_corr: str | Path,
     out_md: str | Path,
+    out_record: str | Path | None = None,
 ) -> None:
     """Merge the shards (one row per design x learner x protocol, with the design's coordinates,
-    M_L and M_CF), correlate (stats.correlations) and write a short summary."""
+    M_L and M_CF), correlate (stats.correlations) and write a short summary; with ``out_record``
+    its sealed record (the inputs' digests and the outputs', provenance.write_sealed)."""
     from morphlearn.learners import stats
 
     s = settings.learners
+    provenance.check_derived(metrics_csv)  # custody: the table its metrics rule wrote
     runs = pd.concat([pd.read_csv(p) for p in shard_csvs], ignore_index=True)
     metrics = pd.read_csv(metrics_csv)
     cols = ["design", "l1x", "l1y", "l2x", "l2y", "M_L", "M_CF"]
@@ -169,6 +172,9 @@ def run_analysis(
             table.to_csv(tmp, index=False, float_format=CSV_FLOAT_FORMAT)
     with store.atomic_path(Path(out_md)) as tmp:
         tmp.write_text(summary_markdown(corr, s, merged.design.nunique()))
+    if out_record is not None:
+        rec = provenance.record(science(settings), [metrics_csv, *shard_csvs])
+        provenance.write_sealed(out_record, rec, [out_runs, out_corr, out_md])
 
 
 def _ci(r: pd.Series, key: str) -> str:

@@ -100,6 +100,14 @@ class Theory(Model):
             s.grid.designs.coords(designs), self.weights(s), self.settings(s).params, progress=True, done=done
         )
 
+    def resimulate(self, science: Mapping[str, Any], designs: np.ndarray) -> list[DesignResult]:
+        from morphlearn import grid as gridmod
+        from morphlearn.theory import evaluate
+
+        g = gridmod.DesignGrid(self.positions_of(science))
+        w = gridmod.weights(science["grid"]["weights"])
+        return evaluate(g.coords(designs), w, TheoryParams.from_config(science["theory"]))
+
     def backend(self, s: Settings) -> dict[str, str]:
         """CPU and CUDA may differ in boundary cases, so the merge records and compares them."""
         from morphlearn.theory import resolve_backend
