@@ -451,6 +451,42 @@ def test_a_bad_configfile_snakemake_reads_first_stops_before_anything_is_written
     assert sorted(p.relative_to(wf) for p in wf.rglob("*")) == before  # nothing written
 
 
+@pytest.mark.parametrize("kind", ["empty", "binary", "list"])
+def test_morphlearn_run_refuses_a_bad_configfile_in_one_line(wf: Path, kind: str) -> None:
+    """`morphlearn run` (snakemake with the same arguments) checks the --configfile files before
+    Snakemake reads them: the same file as above is refused in one line naming it, exit 2."""
+    (wf / "bad.yaml").write_bytes(BAD_FILES[kind][0])
+    exe = Path(sys.executable).with_name("morphlearn")
+    before = sorted(p.relative_to(wf) for p in wf.rglob("*"))
+    proc = subprocess.run(
+        [str(exe), "run", "-n", "--cores", "1", "--configfile", "small.yaml", "bad.yaml"],
+        cwd=wf,
+        capture_output=True,
+        text=True,
+        timeout=300,
+    )
+    said = [ln for ln in (proc.stdout + proc.stderr).splitlines() if ln.strip()]
+    assert proc.returncode == 2 and len(said) == 1, said
+    assert said[0].startswith("morphlearn run: config error: bad.yaml: "), said
+    assert sorted(p.relative_to(wf) for p in wf.rglob("*")) == before  # nothing written
+
+
+def test_morphlearn_run_finds_every_configfile_and_passes_good_ones_to_snakemake(wf: Path) -> None:
+    from morphlearn.cli import configfiles_of
+
+    args = ["-n", "--configfile", "a.yaml", "b.yaml", "--cores", "1", "--configfiles=c.yaml", "all", "x"]
+    assert configfiles_of(args) == ["a.yaml", "b.yaml", "c.yaml"]
+    exe = Path(sys.executable).with_name("morphlearn")
+    proc = subprocess.run(
+        [str(exe), "run", "-n", "--cores", "1", "--configfile", "small.yaml", "--quiet", "rules"],
+        cwd=wf,
+        capture_output=True,
+        text=True,
+        timeout=300,
+    )
+    assert proc.returncode == 0 and "theory_shard" in proc.stdout, proc.stderr[-2000:]
+
+
 def test_workflow_refuses_a_wildcard_results_dir(wf: Path) -> None:
     line = _start_refusal(wf, "--configfile", "small.yaml", "--config", "results_dir=out{x}")
     assert line.startswith("morphlearn: config error: results_dir = 'out{x}' holds"), line

@@ -200,6 +200,46 @@ class _Version(argparse.Action):
         parser.exit()
 
 
+def configfiles_of(args: Sequence[str]) -> list[str]:
+    """The files a Snakemake command line names with ``--configfile``/``--configfiles`` (each
+    takes the values up to the next option)."""
+    out: list[str] = []
+    taking = False
+    for arg in args:
+        name, eq, value = arg.partition("=")
+        if name in ("--configfile", "--configfiles"):
+            taking = not eq
+            if eq:
+                out.append(value)
+        elif arg.startswith("-"):
+            taking = False
+        elif taking:
+            out.append(arg)
+    return out
+
+
+def cmd_run(args: Sequence[str]) -> int:
+    """Snakemake, after the config files it would read first are checked: Snakemake loads its
+    ``--configfile`` files before the workflow starts, so an empty, binary or non-mapping one
+    stopped in Snakemake's words (exit 1, no file name); here it is refused in one line, exit 2."""
+    import shutil
+
+    from morphlearn.config import ConfigError, check_files
+
+    try:
+        check_files(configfiles_of(args))  # the workflow's own first check, before Snakemake reads them
+    except ConfigError as e:
+        print(f"morphlearn run: config error: {e}", file=sys.stderr)
+        return 2
+    exe = os.path.join(os.path.dirname(sys.executable), "snakemake")  # the project's environment first
+    snakemake = exe if os.path.isfile(exe) else shutil.which("snakemake")
+    if snakemake is None:
+        print("morphlearn run: error: snakemake is not installed (bash tools/setup.sh)", file=sys.stderr)
+        return 2
+    os.execv(snakemake, [snakemake, *args])  # Snakemake's own exit code and signals from here on
+    return 0  # not reached
+
+
 def build_parser() -> argparse.ArgumentParser:
     from morphlearn.empirical.plugin import DEFAULT_MORPHOLOGY
     from morphlearn.models import MODELS, REFERENCE
@@ -252,6 +292,11 @@ def build_parser() -> argparse.ArgumentParser:
     c.add_argument("--top", type=int, default=10, metavar="K", help="also count shared top-K designs (10)")
     c.add_argument("--json", action="store_true", help="also print one JSON object")
     c.set_defaults(func=cmd_compare)
+    sub.add_parser(
+        "run",
+        help="snakemake with the same arguments, after checking the --configfile files (one line, exit 2)",
+        add_help=False,
+    )
     for parser in (p, d, v):  # argparse takes '-5e-1' for an option: accept every negative number
         parser._negative_number_matcher = _NEGATIVE_NUMBER
     return p
@@ -261,6 +306,9 @@ _NEGATIVE_NUMBER = re.compile(r"^-(\d+\.?\d*|\.\d+)([eE][-+]?\d+)?$")
 
 
 def main(argv: Sequence[str] | None = None) -> int:
+    argv = list(sys.argv[1:] if argv is None else argv)
+    if argv[:1] == ["run"]:  # everything after it is Snakemake's, options included
+        return cmd_run(argv[1:])
     parser = build_parser()
     a = parser.parse_args(argv)
     try:

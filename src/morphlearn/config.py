@@ -276,6 +276,11 @@ def check_start(basedir: str | Path, configfiles: list[str | Path]) -> None:
             f"are read relative to the working directory), not from {here}; allowed: cd {root} first "
             f"(or snakemake --directory {root})"
         )
+    check_files(configfiles)
+
+
+def check_files(configfiles: list[str | Path]) -> None:
+    """Each config file a YAML mapping with each key once, or one ConfigError naming it."""
     for f in configfiles:
         _read_yaml(f)
 
