@@ -56,6 +56,10 @@ def test_shard_submission_requests_gpu_only_for_gpu_backends(
         target,
         "--profile",
         "profiles/slurm",
+        # the plugin waits this long (default 40 s) before its first status check, even after a
+        # refused submission: a wait on the wall clock, not a setting the submission depends on
+        "--slurm-init-seconds-before-status-checks",
+        "1",
         "--configfile",
         "config/smoke.yaml",
         "extra.yaml",
