@@ -4,6 +4,7 @@ import os
 import re
 import subprocess
 import sys
+import time
 from pathlib import Path
 
 import pytest
@@ -126,10 +127,13 @@ def test_each_env_runs_its_rules(tmp_path: Path) -> None:
         "bootstrap: 100, best_metrics: results/survey/theory/metrics.csv}\n"
     )
     (wd / "s.yaml").write_text("base: {}\nshort:\n  theory:\n    horizon: 200.0\n")
+    t0 = time.perf_counter()
     pythons = {env: build_env(env, tmp_path / "envs" / env) for env in SMOKE_STEPS}
+    print(f"\n{len(pythons)} environments built in {time.perf_counter() - t0:.1f} s")
 
     def run(env: str, *args: str, configs: tuple[str, ...] = CONFIGS) -> dict[str, int]:
         # args before --configfile, which takes every following word as a config file
+        t0 = time.perf_counter()
         proc = subprocess.run(
             [str(pythons[env]), "-m", "snakemake", *args, "--cores", "2", "--configfile", *configs],
             cwd=wd,
@@ -140,6 +144,7 @@ def test_each_env_runs_its_rules(tmp_path: Path) -> None:
         )
         logs = "\n".join(p.read_text()[-1500:] for p in sorted((wd / "results").rglob("logs/**/*.log")))
         assert proc.returncode == 0, f"envs/{env}.yaml {args}:\n{proc.stderr[-3000:]}\n{logs}"
+        print(f"envs/{env}.yaml, {' '.join(args)[:60]}: {time.perf_counter() - t0:.1f} s")
         return job_stats(proc.stdout + proc.stderr)
 
     for env, (rules, targets) in SMOKE_STEPS.items():

@@ -102,3 +102,23 @@ def test_reproduction_engine_rows_on_the_committed_surveys() -> None:
         top_a = set(metrics.rank_designs(pb, m).design[:10])
         top_b = set(metrics.rank_designs(mj_table, m).design[:10])
         assert rows[f"engines_mujoco_top10_{m}"]["ours"] == f"{len(top_a & top_b)} of 10"
+
+
+def test_reproduction_survey_rows_of_a_further_engine_against_the_theory() -> None:
+    """The survey rows of the MuJoCo survey (theory vs MuJoCo rho): the joined columns carry the
+    engine's name (this raised KeyError 'M_L_empirical' when the survey-mujoco run first reached it)."""
+    import dataclasses
+
+    from scipy import stats
+
+    from morphlearn.figures import data as fd
+    from morphlearn.figures import reproduction as rp
+
+    theory = fd.load_results(ROOT / "results/survey", "theory", None)
+    emp = fd.load_results(ROOT / "results/survey", "empirical", None)
+    mj = dataclasses.replace(emp, model="mujoco", table=pd.read_csv(MJ / "survey_metrics.csv"))
+    rows = {r["key"]: r for r in rp.survey_rows(theory, mj, "cfg", model="mujoco", label="MuJoCo survey")}
+    t = theory.table.set_index("design").loc[mj.table.design]
+    rho = stats.spearmanr(t["M_L"].to_numpy(float), mj.table["M_L"].to_numpy(float)).statistic
+    said = [r["ours"] for k, r in rows.items() if "rho" in k and "M_L" in k]
+    assert said and said[0].startswith(f"{rho:.3f} ["), rows.keys()

@@ -193,8 +193,9 @@ def survey_rows(
 
     t = empirical.table
     n = len(t)
-    both = compare.joined(theory.table, t, names=(models.REFERENCE, model))
-    agree = compare.agreement(both)
+    names = (models.REFERENCE, model)
+    both = compare.joined(theory.table, t, names=names)
+    agree = compare.agreement(both, names=names)
     top_l, top_cf = metrics.rank_designs(t, "M_L"), metrics.rank_designs(t, "M_CF")
     best = top_l.iloc[0]
     canon = metrics.find_row(t, gridmod.canonical_design())
