@@ -22,16 +22,12 @@ from __future__ import annotations
 
 import argparse
 import json
-import os
 import shutil
-import subprocess
 import sys
-import time
 from pathlib import Path
 from typing import Any
 
 import pandas as pd
-import yaml
 
 from morphlearn import __version__, bundle_check, provenance, store
 from morphlearn import bundle as bundlemod
@@ -181,26 +177,7 @@ def _render(out_dir: Path, root: str | Path | None) -> float:
         "pdf": str(rel / "comparison.pdf"),
         "caption": str(rel / "comparison.caption.md"),
     }
-    (out_dir / "logs").mkdir(exist_ok=True)
-    env = dict(os.environ, PYTHONPATH=os.pathsep.join(filter(None, [str(root / "src"), os.environ.get("PYTHONPATH")])))
-    papermill = Path(sys.executable).with_name("papermill")
-    t0 = time.perf_counter()
-    proc = subprocess.run(
-        [
-            str(papermill),
-            str(root / NOTEBOOK),
-            str(rel / "logs" / "comparison.ipynb"),
-            "-y",
-            yaml.safe_dump(params, default_flow_style=True, width=10**6).strip(),
-        ],
-        cwd=cwd,
-        capture_output=True,
-        text=True,
-        env=env,
-    )
-    if proc.returncode:
-        raise RuntimeError(f"papermill {NOTEBOOK} failed ({proc.returncode}):\n{proc.stderr[-3000:]}")
-    return time.perf_counter() - t0
+    return bundlemod.render_notebook(root, NOTEBOOK, cwd, rel / "logs" / "comparison.ipynb", params)
 
 
 def render(out_dir: str | Path, root: str | Path | None = None) -> tuple[float, list[str]]:
