@@ -38,6 +38,7 @@ def test_sources_list_every_model_of_every_bundle() -> None:
     for want in ("theory (paper)", "empirical (paper)", "theory (survey)", "empirical (survey)"):
         assert want in labels
     assert explore.default_results_dir(ROOT / "notebooks") == ROOT / "results"
+    assert labels[0] == "theory (paper)"  # the default, whatever other bundles sort before it
 
 
 def test_a_damaged_bundle_is_refused(tmp_path: Path) -> None:

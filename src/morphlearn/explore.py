@@ -65,10 +65,16 @@ def default_results_dir(start: str | Path | None = None) -> Path:
     raise ExploreError(f"no results/<bundle>/{bundlemod.MANIFEST} in {here} or above it: run from the project")
 
 
+#: The bundle listed first (the app's default): the paper-resolution one reviewers open first.
+FIRST_BUNDLE = "paper"
+
+
 def sources(results_dir: str | Path = "results") -> list[Source]:
-    """Every model of every bundle (a folder with ``bundle.json``) under ``results_dir``."""
+    """Every model of every bundle (a folder with ``bundle.json``) under ``results_dir``:
+    ``FIRST_BUNDLE`` first, the others by name."""
     out = []
-    for b in sorted(p.parent for p in Path(results_dir).glob(f"*/{bundlemod.MANIFEST}")):
+    bundles = (p.parent for p in Path(results_dir).glob(f"*/{bundlemod.MANIFEST}"))
+    for b in sorted(bundles, key=lambda b: (b.name != FIRST_BUNDLE, b.name)):
         out += [Source(b, m) for m in MODELS if (b / m / "metrics.csv").is_file()]
     return out
 
