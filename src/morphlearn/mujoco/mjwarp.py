@@ -40,7 +40,7 @@ from morphlearn.empirical.options import SweepOptions
 from morphlearn.empirical.params import EmpiricalParams
 from morphlearn.empirical.reach import CHECK_EVERY, ReachBound, sensor_reach
 from morphlearn.grid import light_positions
-from morphlearn.mujoco.episode import Episodes, lower_times
+from morphlearn.mujoco.episode import BatchRunner, Episodes, lower_times
 from morphlearn.mujoco.model import MujocoSettings, build_model
 
 if TYPE_CHECKING:
@@ -128,12 +128,7 @@ class WarpBatchRunner:
         # stable contact and constraint order and invariant atomics: the same bytes on a rerun
         self.model.opt.deterministic = True
 
-    def bound(self, w_max: float, rho: float, margin: float) -> ReachBound:
-        key = (float(w_max), float(rho), float(margin))
-        b = self._bounds.get(key)
-        if b is None:
-            b = self._bounds[key] = ReachBound(self.params, *key)
-        return b
+    bound = BatchRunner.bound  # the CPU batch's reach-bound cache (same params, same ``_bounds``)
 
     def run(
         self,
