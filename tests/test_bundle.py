@@ -125,3 +125,17 @@ def test_render_from_bundle_alone(smoke_bundle: Path, tmp_path: Path) -> None:
     for i in range(1, 8):
         assert (out / f"figures/fig{i}.html").stat().st_size > 1000
     assert bundle_check.check(out) == []  # every re-rendered figure, caption and table byte-identical
+    assert not (out / "theory/shards").exists()  # nothing simulated, no shard made
+    # and the report of that run (the reviewer's one-page view of the stored results)
+    snakemake(
+        wd,
+        "--configfile",
+        "config/smoke.yaml",
+        "--config",
+        "render_only=True",
+        "results_dir=results/paper",
+        "--report",
+        "results/report.html",
+    )
+    html = (wd / "results/report.html").read_text()
+    assert "Overlapped binary success matrices" in html and "Reproduction" in html

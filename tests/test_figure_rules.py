@@ -5,7 +5,6 @@ from __future__ import annotations
 
 import json
 import shutil
-import time
 from pathlib import Path
 
 import matplotlib.image as mpimg
@@ -13,14 +12,12 @@ import numpy as np
 import pandas as pd
 import pytest
 import yaml
-from conftest import copy_workflow, job_stats, snakemake
+from conftest import job_stats, snakemake
 
 from morphlearn import config
 from morphlearn.figures import output
 from morphlearn.figures.options import PAPER_FIGURES
 from morphlearn.figures.reproduction import QUANTITIES
-
-SIM_RULES = {"theory_shard", "empirical_shard", "merge", "metrics", "summary"}
 
 
 @pytest.mark.parametrize("fig", PAPER_FIGURES)
@@ -173,37 +170,6 @@ def test_figure_parameter_rerenders_figures_without_simulating(smoke_run: Path) 
     proc = snakemake(smoke_run, "-n", "--cores", "1", "--configfile", "config/smoke.yaml", str(change))
     stats = job_stats(proc.stdout + proc.stderr)
     assert stats == {"figure_fig4": 1, "figure_fig5": 1, "reproduction": 1, "all": 1}
-
-
-def test_reviewer_rerenders_from_stored_results_only(smoke_run: Path, tmp_path: Path) -> None:
-    """A reviewer's clone with only the merged results and metrics (no shards, no .snakemake)."""
-    wd = copy_workflow(tmp_path / "reviewer")
-    for model in ("theory", "empirical"):
-        dst = wd / "results" / model
-        dst.mkdir(parents=True)
-        for name in ("metrics.csv", "metrics.provenance.json"):
-            shutil.copy2(smoke_run / "results" / model / name, dst / name)
-        shutil.copytree(smoke_run / "results" / model / "merged.zarr", dst / "merged.zarr")
-    t0 = time.perf_counter()
-    proc = snakemake(
-        wd, "--cores", "2", "--configfile", "config/smoke.yaml", "--config", "render_only=True", "--forceall"
-    )
-    wall = time.perf_counter() - t0
-    stats = job_stats(proc.stdout + proc.stderr)
-    print(f"re-rendered {sum(v for k, v in stats.items() if k.startswith('figure_'))} figures in {wall:.0f} s")
-    assert not SIM_RULES & set(stats)
-    assert {f"figure_{f}" for f in PAPER_FIGURES} <= set(stats) and "reproduction" in stats
-    assert not (wd / "results/theory/shards").exists()
-    for fig in PAPER_FIGURES:  # same pictures as the full run's (deterministic rendering)
-        assert (wd / f"results/figures/{fig}.png").read_bytes() == (
-            smoke_run / f"results/figures/{fig}.png"
-        ).read_bytes(), fig
-    # and the report of that run
-    snakemake(
-        wd, "--configfile", "config/smoke.yaml", "--config", "render_only=True", "--report", "results/report.html"
-    )
-    html = (wd / "results/report.html").read_text()
-    assert "Overlapped binary success matrices" in html and "Reproduction" in html
 
 
 def test_report_of_the_main_run(smoke_run: Path) -> None:
