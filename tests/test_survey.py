@@ -12,7 +12,7 @@ import pytest
 import yaml
 from conftest import copy_workflow, job_stats, snakemake
 
-from morphlearn import bundle_check, settings
+from morphlearn import bundle, bundle_check, settings
 
 # 81 designs (45 simulated with mirror derivation), 2 x 2 weights, a near light and a short
 # horizon so that some controllers succeed in seconds of CPU.
@@ -64,20 +64,37 @@ def test_survey_figure_table_and_bundle(survey_run: Path) -> None:
 
 def test_results_from_reads_the_bundle(survey_run: Path, tmp_path: Path) -> None:
     """A run with empirical.results_from copies the bundle's empirical results (checked), simulates
-    no empirical episode, and draws the survey figure from them; a damaged bundle is refused."""
+    no empirical episode, and draws the survey figure from them; a damaged bundle is refused.
+    The same run reads the bundle as its survey_from too (the paper bundle's Fig. 7 C-D and survey
+    rows come from the largest survey so): a survey/ folder, Fig. 7 and the rows from it, bundled."""
     wd = copy_workflow(tmp_path / "reader")
     shutil.copytree(survey_run / "results" / "toy-survey", wd / "results" / "toy-survey")
     cfg = {k: SURVEY[k] for k in ("grid", "sweep", "analysis")}
     cfg |= {"results_dir": "results/reader", "empirical": {"results_from": "results/toy-survey"}}
+    cfg |= {"survey_from": {"bundle": "results/toy-survey", "model": "empirical"}}
     (wd / "reader.yaml").write_text(yaml.safe_dump(cfg))
     dry = snakemake(wd, "-n", "--cores", "2", "--configfile", "reader.yaml")
     jobs = job_stats(dry.stdout)
     assert jobs.get("empirical_from_bundle") == 1 and "empirical_shard" not in jobs and "figure_survey" in jobs
-    # the survey figure and what it needs (the other figures read nothing of results_from)
-    snakemake(wd, "results/reader/figures/survey.png", "--cores", "2", "--configfile", "reader.yaml")
-    got = pd.read_csv(wd / "results" / "reader" / "empirical" / "metrics.csv")
-    pd.testing.assert_frame_equal(got, pd.read_csv(survey_run / "results" / "toy-survey" / "empirical" / "metrics.csv"))
-    assert (wd / "results" / "reader" / "figures" / "survey.png").is_file()
+    assert jobs.get("survey_from_bundle") == 1
+    # the survey figure, Fig. 7 and the table, and what they need (the other figures read nothing of results_from)
+    targets = [f"results/reader/{f}" for f in ("figures/survey.png", "figures/fig7.png", "reproduction.md")]
+    snakemake(wd, *targets, "--cores", "2", "--configfile", "reader.yaml")
+    r = wd / "results" / "reader"
+    got = pd.read_csv(r / "empirical" / "metrics.csv")
+    bundled = pd.read_csv(survey_run / "results" / "toy-survey" / "empirical" / "metrics.csv")
+    pd.testing.assert_frame_equal(got, bundled)
+    pd.testing.assert_frame_equal(pd.read_csv(r / "survey" / "empirical" / "metrics.csv"), bundled)
+    assert (r / "figures" / "survey.png").is_file()
+    cap7 = (r / "figures" / "fig7.caption.md").read_text()
+    assert "the largest survey: pybullet, all 81 designs" in cap7 and "survey/empirical/metrics.csv" in cap7
+    rows = pd.read_csv(r / "reproduction.csv")
+    assert rows.key.tolist().count("survey_rho_M_L") == 1  # once: the survey's rows, not again the run's own
+    # the bundle of such a run holds the survey folder, checksummed
+    out = wd / "results" / "reader-bundle"
+    manifest = bundle.build(r, out, top=3, made_by={"configs": ["reader.yaml"], "results_dir": "results/reader"})
+    assert "survey/empirical/metrics.csv" in manifest["files"] and "survey/empirical" in manifest["subsets"]
+    assert bundle_check.check(out) == []
     # a flipped byte in the bundle's metrics: the copy is refused, by file name
     m = wd / "results" / "toy-survey" / "empirical" / "metrics.csv"
     b = bytearray(m.read_bytes())
@@ -104,6 +121,24 @@ def test_results_from_bad_values_are_named(tmp_path: Path) -> None:
         settings.parse(cfgmod.deep_merge(base, {"empirical": {"results_from": "nowhere"}}))
     with pytest.raises(cfgmod.ConfigError, match=r"holds results on the 9-point grid; allowed: .* = 5"):
         settings.parse(cfgmod.deep_merge(base, {"empirical": {"results_from": str(root / "results" / "paper")}}))
+    # survey_from: a physics model's survey of every design of this grid, or refused by name
+    nine = cfgmod.deep_merge(base, {"grid": {"positions_per_axis": 9}, "empirical": {"enabled": False}})
+    bad = {
+        r"survey_from\.model = 'theory' is not a physics model; allowed: \['empirical', 'mujoco'\]": (
+            base,
+            {"bundle": "results/survey", "model": "theory"},
+        ),
+        r"survey_from\.bundle = 'nowhere': nowhere/bundle\.json is missing": (base, {"bundle": "nowhere"}),
+        r"'.*paper': its empirical results hold 3 of the grid's 6561 designs; allowed: a survey": (
+            nine,
+            {"bundle": str(root / "results" / "paper"), "model": "empirical"},
+        ),
+    }
+    for message, (cfg, survey) in bad.items():
+        with pytest.raises(cfgmod.ConfigError, match=message):
+            settings.parse(cfgmod.deep_merge(cfg, {"survey_from": survey}))
+    ok = settings.parse(cfgmod.deep_merge(base, {"survey_from": {"bundle": str(root / "results" / "survey-mujoco")}}))
+    assert ok.survey.model == "mujoco" and ok.survey.folder == "survey/mujoco" and ok.survey.thresholds
 
 
 def test_default_run_reads_the_committed_survey(tmp_path: Path) -> None:

@@ -138,6 +138,13 @@ def _models(run_dir: Path) -> list[str]:
     return [m for m in MODELS if (run_dir / m / "metrics.csv").is_file()]
 
 
+def _survey_folders(run_dir: Path) -> list[str]:
+    """``survey/<model>`` folders of the run: a survey copied from another bundle (already a subset)."""
+    from morphlearn.models import MODELS
+
+    return [f"{store.SURVEY_DIR}/{m}" for m in MODELS if (run_dir / store.SURVEY_DIR / m / "metrics.csv").is_file()]
+
+
 def bundle_files(out_dir: Path) -> Iterable[Path]:
     """Every file under the bundle folder but its manifest (a stray one included)."""
     for p in sorted(out_dir.rglob("*")):
@@ -162,20 +169,23 @@ def build(run_dir: str | Path, out_dir: str | Path, *, top: int, made_by: dict[s
         for name in COPIED:
             if (run_dir / name).is_file():
                 shutil.copy2(run_dir / name, tmp / name)
-        for model in models:
-            (tmp / model).mkdir()
+        surveys = _survey_folders(run_dir)
+        for model in [*models, *surveys]:
+            (tmp / model).mkdir(parents=True)
             for name in MODEL_FILES:
                 shutil.copy2(run_dir / model / name, tmp / model / name)
+            src = run_dir / model / "merged.zarr"
             # custody: what goes into the bundle is what the metrics rule wrote from this store
-            provenance.check_derived(
-                run_dir / model / "metrics.csv", store.open_merged(run_dir / model / "merged.zarr")
-            )
+            provenance.check_derived(run_dir / model / "metrics.csv", store.open_merged(src))
             table = pd.read_csv(run_dir / model / "metrics.csv")
             n = positions_of(run_dir / model)
-            # every design of the grid (theory, or a physics survey): only the drawn ones' arrays
+            # every design of the grid (theory, or a physics survey): only the drawn ones' arrays;
+            # a survey read from another bundle holds that bundle's subset already: kept whole
             every = len(table) == n**4
-            designs = drawn_designs(table, n, top) if every else np.sort(table.design)
-            src = run_dir / model / "merged.zarr"
+            if model in surveys:
+                designs = np.sort(store.open_merged(src).design.values.astype(np.int64))
+            else:
+                designs = drawn_designs(table, n, top) if every else np.sort(table.design)
             store.write_subset(src, designs, tmp / model / "merged.zarr")
             subsets[model] = {
                 "designs": [int(d) for d in designs],
@@ -278,6 +288,14 @@ def readme(manifest: dict[str, Any], run_dir: Path, cost: pd.DataFrame) -> str:
         "| `reproduction.{csv,md,html}`, `persistence.csv` | the paper's numbers beside ours |",
         "| `figures/figN.{png,pdf,caption.md}` | the seven figures and their captions |",
         f"| `{COST}` | each job's wall and CPU seconds and peak memory (its benchmark file) |",
+        *(
+            [
+                f"| `{store.SURVEY_DIR}/<model>/` | a physics survey of every design, read from another bundle "
+                "(config `survey_from`; its `metrics.provenance.json` names it): Fig. 7 C-D and the survey rows |"
+            ]
+            if any(m.startswith(store.SURVEY_DIR + "/") for m in sub)
+            else []
+        ),
         "",
         "Designs held in the subsets:",
         "",

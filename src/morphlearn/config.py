@@ -106,7 +106,13 @@ def _check_finite(obj: Any, key: str) -> None:
 #: Characters a path key may not hold: Snakemake reads braces in input/output paths as wildcards.
 UNSAFE_PATH_CHARS = "{}"
 #: Path keys that become Snakemake input or output paths (``scenario_file`` is read by Python only).
-PATH_KEYS = ("results_dir", "bundle_dir", "empirical.morphology", "empirical.results_from")
+PATH_KEYS = (
+    "results_dir",
+    "bundle_dir",
+    "empirical.morphology",
+    "empirical.results_from",
+    "survey_from.bundle",
+)
 
 
 def check_path(key: str, value: str | None) -> None:

@@ -120,6 +120,47 @@ class CooptSettings:
 
 
 @dataclass(frozen=True)
+class SurveySettings:
+    """``survey_from``: a committed bundle holding a physics survey of every design of the grid
+    (None: none), the model whose survey it is, and the thresholds its metrics were made with."""
+
+    bundle: str | None
+    model: str
+    thresholds: Mapping[str, float] | None
+
+    @property
+    def folder(self) -> str:
+        """Where the run keeps its copy, under results_dir (``survey/<model>``)."""
+        from morphlearn.store import SURVEY_DIR
+
+        return f"{SURVEY_DIR}/{self.model}"
+
+
+def _parse_survey(sec: Mapping[str, Any], grid: GridSettings) -> SurveySettings:
+    """The survey bundle: a physics model's results on this grid holding every design of it."""
+    from morphlearn import models
+    from morphlearn.empirical.plugin import Physics
+
+    bundle, name = sec.get("bundle"), sec.get("model", "mujoco")
+    physics = [n for n, m in models.MODELS.items() if isinstance(m, Physics)]
+    if name not in physics:
+        raise cfgmod.ConfigError(f"survey_from.model = {name!r} is not a physics model; allowed: {physics}")
+    if bundle is None:
+        return SurveySettings(None, name, None)
+    model = models.get(name)
+    assert isinstance(model, Physics)
+    th = model.check_results_bundle(bundle, grid.positions_per_axis, key="survey_from.bundle")
+    table = Path(bundle) / name / "metrics.csv"
+    rows = table.read_bytes().count(b"\n") - 1  # one header line, one line per design
+    if rows != grid.designs.size:
+        raise cfgmod.ConfigError(
+            f"survey_from.bundle = {bundle!r}: its {name} results hold {rows} of the grid's "
+            f"{grid.designs.size} designs; allowed: a survey of every design (e.g. results/survey9-mujoco)"
+        )
+    return SurveySettings(bundle, name, MappingProxyType(th))
+
+
+@dataclass(frozen=True)
 class Shared:
     """The typed sections a model's parse may read besides its own (Model.parse)."""
 
@@ -145,6 +186,8 @@ class Settings:
     #: model name -> that model's parsed section (the model plug-in's own settings type)
     models: Mapping[str, Any]
     bundle_dir: str | None
+    #: the largest physics survey, read from its bundle (``survey_from``)
+    survey: SurveySettings
     scenarios: str | list[str] | None
     scenario_file: str
     render_only: bool
@@ -243,6 +286,7 @@ def parse(cfg: Mapping[str, Any]) -> Settings:
             {name: m.parse(v.get(name, {}), Shared(grid, sweep, figures)) for name, m in models.MODELS.items()}
         ),
         bundle_dir=v["bundle_dir"],
+        survey=_parse_survey(v["survey_from"], grid),
         scenarios=v["scenarios"],
         scenario_file=v["scenario_file"],
         render_only=bool(v["render_only"]),

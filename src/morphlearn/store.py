@@ -49,6 +49,9 @@ class IntegrityError(ValueError):
 
 
 COORDS = ("design", "env", "w1", "w2", "l1x", "l1y", "l2x", "l2y")
+#: Where a results folder keeps the physics survey it read from another bundle (``survey_from``):
+#: ``survey/<model>/`` beside the models' own folders, the same files as a model's.
+SURVEY_DIR = "survey"
 #: What the digests are of (recorded with them, so a reader knows what to recompute).
 DIGEST_OF = "sha256 of the C-order bytes of each design's decoded (env, w1, w2) chunk, per variable"
 

@@ -21,6 +21,7 @@ rule bundle:
     input:
         FIGURE_TARGETS,
         *(f"{R}/{m}/{n}" for m in MODELS for n in ("metrics.csv", "merged.zarr")),
+        *SURVEY_FILES,
         summary=f"{R}/summary.md",
     output:
         # update: Snakemake keeps (and on failure restores) this config's previous bundle instead

@@ -100,6 +100,12 @@ def shard_params(model):
     }
 
 
+# The largest physics survey, read from its bundle (survey_from): Fig. 7 C-D and the survey rows.
+SURVEY_FILES = (
+    [f"{R}/{S.survey.folder}/{n}" for n in ("metrics.csv", "merged.zarr")]
+    if S.survey.bundle
+    else []
+)
 # Figures need the theory results; render_only re-renders them from stored results alone.
 RENDER_ONLY = S.render_only
 FIGURES = figure_options.figures(S)
@@ -114,6 +120,7 @@ ALL_TARGETS = FIGURE_TARGETS + (
     if RENDER_ONLY
     else [
         *(f"{R}/{m}/metrics.csv" for m in MODELS),
+        *SURVEY_FILES[:1],
         f"{R}/summary.md",
         *([f"{R}/learners/summary.md"] if S.learners.enabled else []),
         *([f"{R}/coopt/summary.md"] if S.coopt.enabled else []),
@@ -123,11 +130,15 @@ ALL_TARGETS = FIGURE_TARGETS + (
 
 def figure_data(fig):
     """Results a figure reads (registry), of the models enabled."""
-    return [
-        f"{R}/{m}/{name}"
-        for m in figure_options.data_models(S, fig)
-        for name in ("metrics.csv", "merged.zarr")
-    ] + [f"{R}/{f}" for f in figure_registry.FIGURES[fig].files]
+    return (
+        [
+            f"{R}/{m}/{name}"
+            for m in figure_options.data_models(S, fig)
+            for name in ("metrics.csv", "merged.zarr")
+        ]
+        + [f"{R}/{f}" for f in figure_registry.FIGURES[fig].files]
+        + (SURVEY_FILES if figure_registry.FIGURES[fig].survey else [])
+    )
 
 
 # render_only: refuse to start, by name, when a stored result is missing or fails its digests.
@@ -135,6 +146,7 @@ if RENDER_ONLY and FIGURES:
     try:
         rules.check_render_inputs(
             [f"{R}/{m}/{n}" for m in MODELS for n in ("metrics.csv", "merged.zarr")]
+            + SURVEY_FILES
         )
     except ValueError as err:
         print(f"morphlearn: render_only: {err}", file=sys.stderr)

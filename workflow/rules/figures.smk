@@ -70,6 +70,8 @@ rule reproduction:
             if S.coopt.enabled
             else []
         ),
+        # the physics survey read from its bundle (survey_from), when set
+        survey=SURVEY_FILES,
     output:
         csv=update(f"{R}/reproduction.csv"),
         md=update(f"{R}/reproduction.md"),
@@ -95,6 +97,7 @@ rule reproduction:
         limit=S.figures.persistence_controllers,
         settings=figure_options.trajectory_settings(S),
         thresholds={m: models.get(m).thresholds(S).__dict__ for m in MODELS},
+        survey=figure_options.survey_option(S),
     script:
         "../scripts/reproduction.py"
 

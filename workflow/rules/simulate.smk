@@ -1,6 +1,7 @@
 # The sweeps: one job per shard of designs, for every registered model this config simulates
 # (rule <model>_shard); a model whose results come from a committed bundle (<model>.results_from)
-# gets <model>_from_bundle instead, which checks and copies them.
+# gets <model>_from_bundle instead, which checks and copies them; a physics survey read from a
+# bundle (survey_from) gets survey_from_bundle.
 
 
 for _m in SIMULATED:
@@ -54,5 +55,27 @@ for _m in (m for m in MODELS if models.get(m).results_from(S) is not None):
             "../../envs/analysis.yaml"
         params:
             model=_m,
+        script:
+            "../scripts/from_bundle.py"
+
+
+if S.survey.bundle:
+
+    rule survey_from_bundle:
+        input:
+            f"{S.survey.bundle}/bundle.json",
+        output:
+            metrics=update(SURVEY_FILES[0]),
+            provenance=update(f"{R}/{S.survey.folder}/metrics.provenance.json"),
+            merged=update(directory(SURVEY_FILES[1])),
+        log:
+            f"{R}/logs/survey/from_bundle.log",
+        benchmark:
+            f"{R}/benchmarks/survey/from_bundle.tsv"
+        localrule: True
+        conda:
+            "../../envs/analysis.yaml"
+        params:
+            model=S.survey.model,
         script:
             "../scripts/from_bundle.py"

@@ -75,7 +75,7 @@ class Physics(Model):
         results_from = sec.get("results_from")
         bundle_th = None
         if enabled and results_from is not None:
-            bundle_th = self._check_results_from(results_from, grid.positions_per_axis)
+            bundle_th = self.check_results_bundle(results_from, grid.positions_per_axis)
         params, body = None, None
         # the body file is read here, once: the sweep's science and Fig. 1C (the body) need it
         if enabled or (self.figure_body and shared.figures.enabled):
@@ -170,13 +170,13 @@ class Physics(Model):
                 f"simulated; allowed: 1..{len(simulated)}"
             )
 
-    def _check_results_from(self, path: str, n: int) -> dict[str, float]:
+    def check_results_bundle(self, path: str, n: int, key: str | None = None) -> dict[str, float]:
         """A bundle to read the results from: present, on this config's grid (its checksums are
         checked when the results are copied, by the rule <model>_from_bundle). Returns the
-        thresholds its metrics were made with."""
+        thresholds its metrics were made with. ``key``: the config key naming it (error messages)."""
         from morphlearn import bundle
 
-        key = f"{self.name}.results_from"
+        key = key or f"{self.name}.results_from"
         need = [
             Path(path) / "bundle.json",
             Path(path) / self.name / "metrics.csv",
@@ -186,7 +186,8 @@ class Physics(Model):
         if missing:
             raise ConfigError(
                 f"{key} = {path!r}: {missing[0]} is missing; allowed: a results bundle "
-                f"with {self.name} results (e.g. results/survey), or null to simulate"
+                f"with {self.name} results (e.g. results/survey), or null"
+                + (" to simulate" if key.endswith("results_from") else "")
             )
         try:
             positions = bundle.positions_of(Path(path) / self.name)

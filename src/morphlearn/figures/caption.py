@@ -60,7 +60,7 @@ def provenance_md(results: Sequence[ModelResults | None], extra: str = "") -> st
         rec = _provenance_record(res)
         merged_sha = next(iter(rec.get("inputs", {}).values()), None)
         # Paths relative to the results folder: a bundle re-rendered anywhere gives the same caption.
-        metrics_rel, merged_rel = (f"{res.model}/{Path(res.paths[k]).name}" for k in ("metrics", "merged"))
+        metrics_rel, merged_rel = (f"{res.folder}/{Path(res.paths[k]).name}" for k in ("metrics", "merged"))
         parts.append(
             f"- {res.model}: {metrics_rel} (sha256 {_short(sha256_file(res.paths['metrics']))}) "
             f"and {merged_rel} (sha256 {_short(merged_sha)}), git commit "

@@ -45,6 +45,14 @@ def design_label(l1: Sequence[float], l2: Sequence[float]) -> str:
     return f"l1 = ({l1[0]:g}, {l1[1]:g}), l2 = ({l2[0]:g}, {l2[1]:g})"
 
 
+def engine_label(model: str) -> str:
+    """A physics model's engine as prose names it (``MuJoCo``, ``pybullet``); else the model's name."""
+    from morphlearn import models
+
+    m = models.get(model)
+    return getattr(m, "engine_label", "") or getattr(m, "engine", model)
+
+
 def row_design(row: pd.Series) -> Design:
     return (float(row.l1x), float(row.l1y)), (float(row.l2x), float(row.l2y))
 
@@ -62,6 +70,12 @@ class ModelResults:
     ds: xr.Dataset
     thresholds: metrics.Thresholds | None
     paths: dict[str, str] = field(default_factory=dict)
+    #: its folder under the results folder: the model's name, or ``survey/<model>`` for a survey
+    #: read from another bundle (``survey_from``)
+    folder: str = ""
+
+    def __post_init__(self) -> None:
+        self.folder = self.folder or self.model
 
     @property
     def science(self) -> dict[str, Any]:
@@ -140,10 +154,11 @@ class ModelResults:
 
 
 def load_results(
-    results_dir: str | Path, model: str, thresholds: dict[str, float] | None = None
+    results_dir: str | Path, model: str, thresholds: dict[str, float] | None = None, folder: str | None = None
 ) -> ModelResults | None:
-    """A model's results, or None when this run has none (model disabled or not run)."""
-    base = Path(results_dir) / model
+    """A model's results, or None when this run has none (model disabled or not run). ``folder``:
+    where under ``results_dir`` they are, if not in the model's own folder (a survey's)."""
+    base = Path(results_dir) / (folder or model)
     table_path, merged_path = base / "metrics.csv", base / "merged.zarr"
     if not table_path.is_file() or not merged_path.exists():
         return None
@@ -151,9 +166,20 @@ def load_results(
     # custody: the table is the one its record names, computed from this store
     provenance.check_derived(table_path, ds)
     table = pd.read_csv(table_path)
-    return ModelResults(
-        model, table, ds, thresholds_from(thresholds), {"metrics": str(table_path), "merged": str(merged_path)}
-    )
+    paths = {"metrics": str(table_path), "merged": str(merged_path)}
+    return ModelResults(model, table, ds, thresholds_from(thresholds), paths, folder or model)
+
+
+def load_survey(results_dir: str | Path, survey: dict[str, Any] | None) -> ModelResults | None:
+    """The physics survey a config reads from a bundle (``survey_from``; the notebook parameter
+    ``survey``: its model and thresholds), or None when it sets none; missing files are an error."""
+    if survey is None:
+        return None
+    folder = f"{store.SURVEY_DIR}/{survey['model']}"
+    res = load_results(results_dir, survey["model"], survey["thresholds"], folder)
+    if res is None:
+        raise FileNotFoundError(f"no survey under {results_dir}/{folder} (metrics.csv and merged.zarr)")
+    return res
 
 
 def require_results(results_dir: str | Path, model: str, thresholds: dict[str, float] | None = None) -> ModelResults:

@@ -60,6 +60,14 @@ DERIVED_FIGURE_OPTIONS: dict[str, Callable[[Settings], Any]] = {
 }
 
 
+def survey_option(s: Settings) -> dict[str, Any] | None:
+    """The physics survey read from a bundle (``survey_from``): its model and the thresholds its
+    metrics were made with, or None when the config sets none."""
+    if not s.survey.bundle:
+        return None
+    return {"model": s.survey.model, "thresholds": dict(s.survey.thresholds or {})}
+
+
 def figure_options(s: Settings, fig: str) -> dict[str, Any]:
     """Notebook parameters of figure ``fig`` (registry: what it reads and takes).
 
@@ -79,6 +87,8 @@ def figure_options(s: Settings, fig: str) -> dict[str, Any]:
             opts[f"{name}_thresholds"] = m.thresholds(s).__dict__
     for name in spec.options:
         opts[name] = DERIVED_FIGURE_OPTIONS[name](s) if name in DERIVED_FIGURE_OPTIONS else s.figures.option(name)
+    if spec.survey and s.survey.bundle:  # only when set: figures without a survey keep their parameters
+        opts["survey"] = survey_option(s)
     return opts
 
 

@@ -38,6 +38,9 @@ class Figure:
     needs: str | None = None
     #: Further results it reads, relative to results_dir.
     files: tuple[str, ...] = ()
+    #: It draws the physics survey of ``survey_from`` when the config sets one (notebook
+    #: parameter ``survey``: its model and thresholds), instead of the run's own physics results.
+    survey: bool = False
 
 
 FIGURES: dict[str, Figure] = {
@@ -47,7 +50,7 @@ FIGURES: dict[str, Figure] = {
     "fig4": Figure(options=("trajectory_settings", "near_distance")),
     "fig5": Figure(options=("trajectory_settings", "near_distance")),
     "fig6": Figure(reads=("theory", "empirical")),
-    "fig7": Figure(reads=("theory", "empirical")),
+    "fig7": Figure(reads=("theory", "empirical"), survey=True),
     # beyond the paper: real learners against M_L and M_CF (issue 15; config/learners.yaml)
     "learners": Figure(needs="learners", files=("learners/runs.csv", "learners/correlations.csv")),
     # beyond the paper: co-optimising the body against a four-synapse controller (issue 27;

@@ -262,13 +262,6 @@ def physics_models() -> list[str]:
     )  # type: ignore[attr-defined]
 
 
-def _engine_label(name: str) -> str:
-    from morphlearn import models
-
-    m = models.get(name)
-    return getattr(m, "engine_label", "") or getattr(m, "engine", name)
-
-
 def engine_rows(
     reference: fd.ModelResults, other: fd.ModelResults, names: tuple[str, str], label: str, config_name: str
 ) -> list[dict[str, str]]:
@@ -279,7 +272,7 @@ def engine_rows(
 
     both = compare.joined(reference.table, other.table, names=names)
     a, b = names
-    ref = _engine_label(a)
+    ref = fd.engine_label(a)
     items = []
     for m in metrics.METRICS:
         ag = compare.spearman_ci(both[f"{m}_{a}"], both[f"{m}_{b}"], m)
@@ -422,10 +415,12 @@ def reproduction_table(
     learners: pd.DataFrame | None = None,
     engines: dict[str, fd.ModelResults] | None = None,
     coopt: tuple[pd.DataFrame, pd.DataFrame, float] | None = None,
+    survey: fd.ModelResults | None = None,
 ) -> pd.DataFrame:
-    """The table, one row per entry of ``QUANTITIES`` in that order, then the learner rows (beyond
-    the paper) when ``learners`` (learners/correlations.csv) is given, and for each further
+    """The table, one row per entry of ``QUANTITIES`` in that order, then the survey rows of the
+    physics survey read from a bundle (``survey``, config ``survey_from``), for each further
     physics engine in ``engines`` (model name -> results) its survey and engine-agreement rows,
+    the learner rows (beyond the paper) when ``learners`` (learners/correlations.csv) is given,
     then the coopt stage's rows when ``coopt`` (its summary, landscape table and step) is given."""
     ours: dict[str, tuple[str, str]] = {}
     if theory is not None:
@@ -446,11 +441,18 @@ def reproduction_table(
                 "note": note,
             }
         )
-    if is_survey(theory, empirical):
+    if survey is not None and theory is not None and is_survey(theory, survey):
+        if survey.model == physics_models()[0]:  # the reference engine's survey: the plain survey rows
+            rows += survey_rows(theory, survey, config_name)
+        else:
+            rows += survey_rows(
+                theory, survey, config_name, model=survey.model, label=f"{fd.engine_label(survey.model)} survey"
+            )
+    if is_survey(theory, empirical) and (survey is None or survey.model != physics_models()[0]):
         rows += survey_rows(theory, empirical, config_name)
     for name, res in (engines or {}).items():
-        label = _engine_label(name)
-        if is_survey(theory, res):
+        label = fd.engine_label(name)
+        if is_survey(theory, res) and (survey is None or survey.model != name):
             rows += survey_rows(theory, res, config_name, model=name, label=f"{label} survey")
         if empirical is not None:
             rows += engine_rows(empirical, res, (physics_models()[0], name), label, config_name)
@@ -516,10 +518,12 @@ def run(
     limit: int,
     learners_enabled: bool = False,
     coopt_sigma: float | None = None,
+    survey: dict[str, Any] | None = None,
 ) -> tuple[pd.DataFrame, pd.DataFrame]:
     """Load the results of the models of ``thresholds`` (model -> its thresholds: the models this
     config runs) and build (reproduction table, persistence table). ``coopt_sigma``: the coopt
-    stage ran (its rows use the evolution strategies at that step)."""
+    stage ran (its rows use the evolution strategies at that step). ``survey``: the physics survey
+    read from a bundle (its model and thresholds; config ``survey_from``)."""
     corr = None
     if learners_enabled:
         provenance.check_derived(Path(results_dir) / "learners" / "correlations.csv")  # custody
@@ -538,4 +542,7 @@ def run(
         raise FileNotFoundError(f"no theory results under {results_dir}")
     pers = persistence_counts(theory, fd.TheorySettings(**settings), near, limit)
     engines = {m: r for m, r in res.items() if m in physics_models()[1:] and r is not None}
-    return reproduction_table(theory, emp, pers, config_name, near, corr, engines, coopt), pers
+    table = reproduction_table(
+        theory, emp, pers, config_name, near, corr, engines, coopt, fd.load_survey(results_dir, survey)
+    )
+    return table, pers
