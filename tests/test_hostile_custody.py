@@ -735,6 +735,19 @@ def test_mujoco_rows_resimulate_with_their_recorded_levers(mujoco_results: Path,
         assert again.startswith(f"mujoco design {d}: metrics row"), again
 
 
+def test_a_physics_only_run_bundles(mujoco_results: Path, tmp_path: Path) -> None:
+    """A run of one physics model and no theory (config/survey9_mujoco.yaml) makes a bundle that
+    checks out; a run with no model's results is refused by name."""
+    from morphlearn import bundle
+
+    out = tmp_path / "b"
+    manifest = bundle.build(mujoco_results, out, top=3, made_by={"configs": ["x.yaml"], "results_dir": "r"})
+    assert set(manifest["subsets"]) == {"mujoco"} and manifest["subsets"]["mujoco"]["designs"] == [51, 75]
+    assert bundle_check.check(out) == []
+    with pytest.raises(bundle.BundleError, match=r"no model's metrics\.csv"):
+        bundle.build(tmp_path / "empty", tmp_path / "b2", top=3, made_by={})
+
+
 @pytest.mark.parametrize(
     "which",
     ["nomodel:1", "empirical:", "sample:x", "mujoco:canonical:2"],

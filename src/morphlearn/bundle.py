@@ -155,11 +155,9 @@ def bundle_files(out_dir: Path) -> Iterable[Path]:
 def build(run_dir: str | Path, out_dir: str | Path, *, top: int, made_by: dict[str, Any]) -> dict[str, Any]:
     """Write the bundle of ``run_dir`` to ``out_dir`` (replaced as a whole, atomically)."""
     run_dir, out_dir = Path(run_dir), Path(out_dir)
-    from morphlearn.models import REFERENCE
-
     models = _models(run_dir)
-    if REFERENCE not in models:
-        raise BundleError(f"{run_dir}: no {REFERENCE}/metrics.csv; run the workflow first")
+    if not models:  # a physics survey alone (config/survey9_mujoco.yaml) is a bundle too
+        raise BundleError(f"{run_dir}: no model's metrics.csv (<model>/metrics.csv); run the workflow first")
     subsets: dict[str, Any] = {}
     for name in ("summary.json", "reproduction.csv", "learners/correlations.csv"):  # custody: as recorded
         if provenance.sidecar_of(run_dir / name).is_file():
