@@ -122,3 +122,39 @@ def test_reproduction_survey_rows_of_a_further_engine_against_the_theory() -> No
     rho = stats.spearmanr(t["M_L"].to_numpy(float), mj.table["M_L"].to_numpy(float)).statistic
     said = [r["ours"] for k, r in rows.items() if "rho" in k and "M_L" in k]
     assert said and said[0].startswith(f"{rho:.3f} ["), rows.keys()
+
+
+def test_refined_rows_say_how_the_theory_best_designs_do_in_physics() -> None:
+    """Rows of physics results that are not a survey (issue 26's designs at 121 x 121): a further
+    engine's canonical and best designs as the reference engine's rows, and for each metric the
+    theory's best design (or its mirror image) in physics, or "not simulated"; here on the committed
+    paper bundle (theory at paper resolution; pybullet on 3 designs)."""
+    import dataclasses
+
+    from morphlearn import grid, metrics
+    from morphlearn.figures import data as fd
+    from morphlearn.figures import reproduction as rp
+
+    theory = fd.load_results(ROOT / "results/paper", "theory", None)
+    emp = fd.load_results(ROOT / "results/paper", "empirical", None)
+    mj = dataclasses.replace(emp, model="mujoco")
+    rows = {r["key"]: r for r in rp.refined_rows(theory, mj, "mujoco", "cfg")}
+    canon = metrics.find_row(emp.table, grid.canonical_design())
+    assert rows["mujoco_canonical_M_L"]["ours"].startswith(f"{canon.M_L:.4g} ({int(canon.generalists)} of 121")
+    assert rows["mujoco_canonical_M_L"]["quantity"] == "MuJoCo, canonical design: M_L"
+    assert rows["mujoco_best_on_both"]["paper"] == "yes (pybullet)"
+    for by in metrics.METRICS:
+        top = theory.best(by)
+        design = fd.row_design(top)
+        mirror = fd.row_design(theory.table[theory.table.design == grid.DesignGrid(9).mirror(int(top.design))].iloc[0])
+        held = [emp.row(*d) for d in (design, mirror) if emp.row(*d) is not None]
+        said = rows[f"mujoco_theory_best_{by}_in_physics"]["ours"]
+        if held:
+            r = held[0]
+            assert said.startswith(f"{fd.design_label(*fd.row_design(r))}") and f"{int(r.generalists)} of 121" in said
+        else:
+            assert said.endswith("not simulated in this run")
+    # the reference engine gets only the theory-best rows (its own rows are the paper's quantities)
+    assert {r["key"] for r in rp.refined_rows(theory, emp, "empirical", "cfg")} == {
+        f"empirical_theory_best_{by}_in_physics" for by in metrics.METRICS
+    }

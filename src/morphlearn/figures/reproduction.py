@@ -20,7 +20,7 @@ import pandas as pd
 from morphlearn import grid as gridmod
 from morphlearn import provenance, store
 from morphlearn.figures import data as fd
-from morphlearn.figures.caption import resolution_note, science_summary
+from morphlearn.figures.caption import PAPER_WEIGHTS, resolution_note, science_summary
 
 NOT_RUN = "not in this run"
 
@@ -406,6 +406,69 @@ def empirical_rows(res: fd.ModelResults) -> dict[str, tuple[str, str]]:
     return out
 
 
+def at_paper_weights(res: fd.ModelResults | None) -> bool:
+    """Physics results on the paper's 121 x 121 weight grid (the designs refined, issue 26)."""
+    return res is not None and len(res.weights) == PAPER_WEIGHTS
+
+
+def refined_rows(
+    theory: fd.ModelResults | None, res: fd.ModelResults, name: str, config_name: str
+) -> list[dict[str, str]]:
+    """Rows of a physics engine's results that are not a survey (the designs refined at the
+    paper's 121 x 121, issue 26): for an engine other than the reference, its canonical and best
+    designs as the reference engine's rows ask (``<name>_...`` keys); for every engine, how the
+    theory's best designs (by M_L and by M_CF) do in it, beside the designs it holds."""
+    from morphlearn import metrics
+
+    label = fd.engine_label(name)
+    rows = []
+    if name != physics_models()[0]:
+        said = empirical_rows(res)
+        for key, quantity, paper in QUANTITIES:
+            if key in said:
+                ours, note = said[key]
+                rows.append(
+                    {
+                        "key": key.replace("empirical_", f"{name}_", 1),
+                        "quantity": quantity.replace("empirical", label, 1),
+                        "paper": f"{paper} (pybullet)",
+                        "ours": ours,
+                        "config": _config(res, config_name),
+                        "note": note,
+                    }
+                )
+    n_pos = theory.positions_per_axis if theory is not None else None
+    if theory is None or n_pos != res.positions_per_axis:
+        return rows
+    n, m2 = res.n_designs, res.n_controllers
+    for by in metrics.METRICS:
+        top = theory.best(by)
+        design = fd.row_design(top)
+        mirror = theory.table[theory.table.design == gridmod.DesignGrid(n_pos).mirror(int(top.design))]
+        held = [r for d in (design, fd.row_design(mirror.iloc[0])) if (r := res.row(*d)) is not None]
+        if not held:
+            ours = f"{fd.design_label(*design)} and its mirror image: not simulated in this run"
+        else:
+            r = held[0]
+            which = "" if fd.row_design(r) == design else " (its mirror image)"
+            ours = (
+                f"{fd.design_label(*fd.row_design(r))}{which}: {_frac(int(r.generalists), m2)} generalists, "
+                f"M_L {r.M_L:.4g}, M_CF {r.M_CF:.4g}; rank {metrics.rank_of(res.table, r, 'M_L')} by M_L and "
+                f"{metrics.rank_of(res.table, r, 'M_CF')} by M_CF of the {n} designs simulated"
+            )
+        rows.append(
+            {
+                "key": f"{name}_theory_best_{by}_in_physics",
+                "quantity": f"{label}: the theory's best design by {by}, in physics",
+                "paper": BEYOND_MODELS,
+                "ours": ours,
+                "config": _config(res, config_name),
+                "note": f"theory's best by {by}: {fd.design_label(*design)}, M_L {top.M_L:.4g}, M_CF {top.M_CF:.4g}",
+            }
+        )
+    return rows
+
+
 def reproduction_table(
     theory: fd.ModelResults | None,
     empirical: fd.ModelResults | None,
@@ -450,10 +513,14 @@ def reproduction_table(
             )
     if is_survey(theory, empirical) and (survey is None or survey.model != physics_models()[0]):
         rows += survey_rows(theory, empirical, config_name)
+    if at_paper_weights(empirical) and not is_survey(theory, empirical):
+        rows += refined_rows(theory, empirical, physics_models()[0], config_name)
     for name, res in (engines or {}).items():
         label = fd.engine_label(name)
         if is_survey(theory, res) and (survey is None or survey.model != name):
             rows += survey_rows(theory, res, config_name, model=name, label=f"{label} survey")
+        elif at_paper_weights(res):
+            rows += refined_rows(theory, res, name, config_name)
         if empirical is not None:
             rows += engine_rows(empirical, res, (physics_models()[0], name), label, config_name)
     if learners is not None:
