@@ -73,8 +73,13 @@ SCENARIO_STEPS = {
     "figures": (["scenario_report"], ["scenario_report"]),
 }
 SCENARIOS = ("--config", "scenario_file=s.yaml", "scenarios=all")
-# A run that reads the empirical results of the bundle the figures step made (empirical.results_from).
-READER_STEP = ("analysis", ["empirical_from_bundle"], ["results/reader/empirical/metrics.csv"])
+# A run that reads the theory and empirical results of the bundle the figures step made
+# (theory.results_from, empirical.results_from).
+READER_STEP = (
+    "analysis",
+    ["empirical_from_bundle", "theory_from_bundle"],
+    ["results/reader/empirical/metrics.csv", "results/reader/theory/metrics.csv"],
+)
 # Rules that run the same script in the same environment as a rule run above (what this test
 # checks is that an environment holds what a rule's script imports): rule -> that rule.
 SAME_SCRIPT_AND_ENV = {"survey_from_bundle": "empirical_from_bundle"}
@@ -160,9 +165,10 @@ def test_each_env_runs_its_rules(tmp_path: Path) -> None:
     # reads results/bundle, so it must not bundle into it too (bundle_dir refuses another config's bundle)
     (wd / "reader.yaml").write_text(
         "results_dir: results/reader\nbundle_dir: null\nempirical:\n  results_from: results/bundle\n"
+        "theory:\n  results_from: results/bundle\n"
     )
     env, rules, targets = READER_STEP
-    assert run(env, *targets, "--allowed-rules", *rules, configs=(*CONFIGS, "reader.yaml")) == {rules[0]: 1}
+    assert run(env, *targets, "--allowed-rules", *rules, configs=(*CONFIGS, "reader.yaml")) == dict.fromkeys(rules, 1)
     # Together the environments made the workflow: the main environment has nothing left to do
     # (nothing made in an environment is out of date).
     for extra in ((), SCENARIOS):

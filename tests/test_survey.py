@@ -12,7 +12,7 @@ import pytest
 import yaml
 from conftest import copy_workflow, job_stats, snakemake
 
-from morphlearn import bundle, bundle_check, settings
+from morphlearn import bundle, bundle_check, models, settings
 
 # 81 designs (45 simulated with mirror derivation), 2 x 2 weights, a near light and a short
 # horizon so that some controllers succeed in seconds of CPU.
@@ -121,6 +121,15 @@ def test_results_from_bad_values_are_named(tmp_path: Path) -> None:
         settings.parse(cfgmod.deep_merge(base, {"empirical": {"results_from": "nowhere"}}))
     with pytest.raises(cfgmod.ConfigError, match=r"holds results on the 9-point grid; allowed: .* = 5"):
         settings.parse(cfgmod.deep_merge(base, {"empirical": {"results_from": str(root / "results" / "paper")}}))
+    # theory.results_from: theory results made with this config's theory settings and grid
+    with pytest.raises(cfgmod.ConfigError, match=r"theory\.results_from = .*holds theory results made with grid\."):
+        settings.parse(cfgmod.deep_merge(base, {"theory": {"results_from": str(root / "results" / "paper")}}))
+    with pytest.raises(cfgmod.ConfigError, match=r"made with theory\.horizon = 500\.0, this config has 400\.0"):
+        settings.parse(
+            cfgmod.deep_merge(base, {"theory": {"results_from": str(root / "results" / "survey"), "horizon": 400.0}})
+        )
+    read = settings.parse(cfgmod.deep_merge(base, {"theory": {"results_from": str(root / "results" / "survey")}}))
+    assert read.models["theory"].results_from and "theory" not in models.simulated(read)
     # survey_from: a physics model's survey of every design of this grid, or refused by name
     nine = cfgmod.deep_merge(base, {"grid": {"positions_per_axis": 9}, "empirical": {"enabled": False}})
     bad = {

@@ -111,6 +111,7 @@ PATH_KEYS = (
     "bundle_dir",
     "empirical.morphology",
     "empirical.results_from",
+    "theory.results_from",
     "survey_from.bundle",
 )
 
@@ -295,6 +296,17 @@ def deep_merge(base: dict[str, Any], over: dict[str, Any]) -> dict[str, Any]:
     out = copy.deepcopy(base)
     for k, v in over.items():
         out[k] = deep_merge(out[k], v) if isinstance(v, dict) and isinstance(out.get(k), dict) else v
+    return out
+
+
+def flatten(obj: Any, prefix: str = "") -> dict[str, Any]:
+    """Nested mappings as one mapping of dotted keys (``{"a": {"b": 1}}`` -> ``{"a.b": 1}``), to
+    name the first key where two configs differ."""
+    if not isinstance(obj, dict) or not obj:
+        return {prefix: obj}
+    out: dict[str, Any] = {}
+    for k, v in obj.items():
+        out |= flatten(v, f"{prefix}.{k}" if prefix else str(k))
     return out
 
 

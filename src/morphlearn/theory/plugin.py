@@ -8,6 +8,7 @@ import os
 import platform
 from collections.abc import Mapping
 from dataclasses import dataclass
+from pathlib import Path
 from types import MappingProxyType
 from typing import TYPE_CHECKING, Any
 
@@ -42,6 +43,7 @@ class TheorySettings:
     mirror_symmetry: bool
     designs: tuple[int, ...]  # simulated: one of each mirror pair with mirror_symmetry
     science: Mapping[str, Any]
+    results_from: str | None = None  # a bundle its results are read from instead (same science)
 
 
 class Theory(Model):
@@ -65,7 +67,11 @@ class Theory(Model):
             raise ConfigError(
                 f"sweep.shards = {sw.shards} exceeds the {len(designs)} designs evaluated; allowed: 1..{len(designs)}"
             )
+        results_from = section.get("results_from")
+        if section["enabled"] and results_from is not None:
+            self._check_results_from(results_from, science)
         return TheorySettings(
+            results_from=results_from,
             enabled=bool(section["enabled"]),
             params=TheoryParams.from_config(section),
             weights=grid.weights,
@@ -75,6 +81,36 @@ class Theory(Model):
             designs=tuple(int(d) for d in designs),
             science=MappingProxyType(science),
         )
+
+    def _check_results_from(self, path: str, science: Mapping[str, Any]) -> None:
+        """A bundle holding theory results made with exactly this config's science (its
+        checksums are checked when they are copied, by the rule theory_from_bundle)."""
+        from morphlearn import config, store
+
+        key = "theory.results_from"
+        merged = Path(path) / self.name / "merged.zarr"
+        need = [Path(path) / "bundle.json", Path(path) / self.name / "metrics.csv", merged]
+        missing = [str(p) for p in need if not p.exists()]
+        if missing:
+            raise ConfigError(
+                f"{key} = {path!r}: {missing[0]} is missing; allowed: a results bundle with theory "
+                "results (e.g. results/paper), or null to simulate"
+            )
+        try:
+            held = store.science_of(store.open_merged(merged))
+        except Exception as e:  # a damaged store: say which and why, in one line
+            raise ConfigError(f"{key} = {path!r}: unreadable theory results ({e})") from None
+        flat_held, flat_want = config.flatten(held), config.flatten(dict(science))
+        differ = sorted(k for k in flat_held.keys() | flat_want.keys() if flat_held.get(k) != flat_want.get(k))
+        if differ:
+            k = differ[0]
+            raise ConfigError(
+                f"{key} = {path!r} holds theory results made with {k} = {flat_held.get(k)!r}, this config "
+                f"has {flat_want.get(k)!r}; allowed: a bundle made with this config's theory and grid settings"
+            )
+
+    def results_from(self, s: Settings) -> str | None:
+        return self.settings(s).results_from
 
     def designs(self, s: Settings) -> np.ndarray:
         return np.array(self.settings(s).designs, dtype=np.int64)
