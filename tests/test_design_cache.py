@@ -162,3 +162,57 @@ def test_theory_shard_saves_each_batch_as_it_finishes(tmp_path: Path, monkeypatc
         rules.run_shard(s, "theory", 0, tmp_path / "shard_0.nc")
     assert sorted(folder.iterdir()) == sorted(design_cache.design_path(folder, d) for d in designs[:2])
     assert not (tmp_path / "shard_0.nc").exists()
+
+
+def test_adding_designs_to_a_physics_run_reuses_the_designs_done(tmp_path: Path, capsys: pytest.CaptureFixture) -> None:
+    """A physics run's science lists its designs; the cache is keyed without that list, so a run
+    with more designs (issue 26: candidates added to the refinement) recomputes only the new ones,
+    and designs kept under the old key (the digest of the whole science) are still reused."""
+    pytest.importorskip("mujoco")
+    one, two = [[[0.5, 0.5], [0.0, -0.5]]], [[[0.5, 0.5], [0.0, -0.5]], [[-0.5, 0.0], [0.5, 0.5]]]
+    mj = models.get("mujoco")
+
+    def parse(designs: list) -> settings.Settings:
+        section = {"enabled": True, "results_from": None, "weights": 2, "designs": designs, "shards": 1}
+        section |= {"include_mirrors": False, "params": {"light_distance": 2.5, "steps": 100}}
+        cfg = {"results_dir": str(tmp_path / "r"), "grid": {"positions_per_axis": 3}, "mujoco": section}
+        cfg |= {"figures": {"enabled": False}, "empirical": {"enabled": False}}
+        import os
+
+        cwd = Path.cwd()
+        os.chdir(ROOT)  # the body file is named relative to the project root
+        try:
+            return settings.parse(config.deep_merge(SMOKE, cfg))
+        finally:
+            os.chdir(cwd)
+
+    a, b = parse(one), parse(two)
+    assert mj.science(a) != mj.science(b)  # the design list is part of the run's science ...
+    folder = design_cache.cache_dir(a.results_dir, "mujoco", mj.science(a))
+    assert folder == design_cache.cache_dir(b.results_dir, "mujoco", mj.science(b))  # ... not of the key
+    rules.run_shard(a, "mujoco", 0, tmp_path / "a.nc")
+    assert "reused 0, to compute 1" in capsys.readouterr().out
+    rules.run_shard(b, "mujoco", 0, tmp_path / "b.nc")
+    assert "reused 1, to compute 1" in capsys.readouterr().out
+    # a design kept under the old key is reused from there
+    legacy = design_cache.legacy_dir(b.results_dir, "mujoco", mj.science(b))
+    assert legacy is not None and legacy != folder
+    legacy.mkdir(parents=True)
+    d = int(mj.designs(b)[1])
+    sh = store.read_shard(design_cache.design_path(folder, d))
+    store.write_shard(
+        design_cache.design_path(legacy, d),
+        model="mujoco",
+        grid=b.grid.designs,
+        weights=mj.weights(b),
+        designs=np.array([d]),
+        results=[design_cache.DesignResult(*(sh.arrays[k][0] for k in store.VARS))],
+        science=mj.science(b),
+        provenance={},
+    )
+    design_cache.design_path(folder, d).unlink()
+    rules.run_shard(b, "mujoco", 0, tmp_path / "b2.nc")
+    assert "reused 2, to compute 0" in capsys.readouterr().out
+    assert store.read_shard(tmp_path / "b2.nc").arrays["min_dist"].tobytes() == (
+        store.read_shard(tmp_path / "b.nc").arrays["min_dist"].tobytes()
+    )

@@ -25,8 +25,22 @@ from morphlearn.grid import DesignGrid
 from morphlearn.results import DesignResult
 
 
+def design_science(science: dict[str, Any]) -> dict[str, Any]:
+    """What one design's outcomes depend on: the run's science without the list of designs it holds
+    (a physics run's ``designs``), so that adding designs to a run reuses those already done."""
+    return {k: v for k, v in science.items() if k != "designs"}
+
+
 def cache_dir(results_dir: str | Path, model: str, science: dict[str, Any]) -> Path:
     """Folder of one science config's designs (the digest prefix keeps configs apart)."""
+    return Path(results_dir) / model / "designs" / cfgmod.digest(design_science(science))[:16]
+
+
+def legacy_dir(results_dir: str | Path, model: str, science: dict[str, Any]) -> Path | None:
+    """Where designs were kept before the folder was keyed without the design list (the digest of
+    the whole science), when that differs: still read, never written."""
+    if "designs" not in science:
+        return None
     return Path(results_dir) / model / "designs" / cfgmod.digest(science)[:16]
 
 
@@ -34,21 +48,33 @@ def design_path(folder: Path, design: int) -> Path:
     return folder / f"design_{int(design)}.nc"
 
 
-def load(folder: Path, designs: np.ndarray, *, model: str, science: dict[str, Any], m: int) -> dict[int, DesignResult]:
-    """The designs of ``designs`` already in ``folder`` that verify; damaged or foreign ones are
-    reported and left to be recomputed (their file is overwritten then)."""
+def load(
+    folder: Path,
+    designs: np.ndarray,
+    *,
+    model: str,
+    science: dict[str, Any],
+    m: int,
+    legacy: Path | None = None,
+) -> dict[int, DesignResult]:
+    """The designs of ``designs`` already in ``folder`` (else in ``legacy``, see :func:`legacy_dir`)
+    that verify; damaged or foreign ones are reported and left to be recomputed (their file is
+    overwritten then)."""
     found: dict[int, DesignResult] = {}
+    places = [(folder, design_science(science)), *([(legacy, science)] if legacy else [])]
     for d in designs:
-        p = design_path(folder, d)
-        if not p.is_file():
-            continue
-        try:
-            sh = store.read_shard(p)
-            store.verify_shard(sh, model=model, science=science, designs=np.array([int(d)]), m=m)
-        except store.ShardError as e:
-            print(f"design cache: not reused: {e}", flush=True)
-            continue
-        found[int(d)] = DesignResult(*(sh.arrays[k][0] for k in store.VARS))
+        for where, sci in places:
+            p = design_path(where, d)
+            if not p.is_file():
+                continue
+            try:
+                sh = store.read_shard(p)
+                store.verify_shard(sh, model=model, science=sci, designs=np.array([int(d)]), m=m)
+            except store.ShardError as e:
+                print(f"design cache: not reused: {e}", flush=True)
+                continue
+            found[int(d)] = DesignResult(*(sh.arrays[k][0] for k in store.VARS))
+            break
     return found
 
 
@@ -71,6 +97,6 @@ def save(
         weights=weights,
         designs=np.array([int(design)]),
         results=[result],
-        science=science,
+        science=design_science(science),
         provenance=provenance,
     )

@@ -27,7 +27,8 @@ def run_shard(s: Settings, model: str, shard: int, out: str | Path) -> None:
     results: dict[int, DesignResult] = {}
     folder = design_cache.cache_dir(s.results_dir, model, sci) if s.design_cache else None
     if folder:
-        results = design_cache.load(folder, designs, model=model, science=sci, m=len(w))
+        legacy = design_cache.legacy_dir(s.results_dir, model, sci)
+        results = design_cache.load(folder, designs, model=model, science=sci, m=len(w), legacy=legacy)
     todo = np.array([d for d in designs if int(d) not in results], dtype=np.int64)
     print(
         f"shard {shard}: {len(designs)} designs, reused {len(results)}, to compute {len(todo)}"
