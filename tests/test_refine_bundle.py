@@ -88,8 +88,9 @@ def test_bundle_holds_the_folders_metrics_and_the_workflow_reads_it(tmp_path: Pa
         str(designs[0]): rz.read_manifest(b)["run_key"],
     }
     assert models.get("empirical").positions_of(sci) == 9
-    assert "2 designs simulated on the 9-point grid, 3 weights per synapse" in models.get("empirical").describe(
-        sci, 2, 3
+    assert (
+        "2 designs simulated one by one, every cell, by tools/refine_design.py (run keys in the store's "
+        "record) on the 9-point grid, 3 weights per synapse" in models.get("empirical").describe(sci, 2, 3)
     )
     # the workflow's reader: config on the 9-position grid, then the rule's copy and the figures' load
     cfg = cfgmod.deep_merge(

@@ -289,6 +289,8 @@ class Physics(Model):
     def describe(self, science: Mapping[str, Any], n_designs: int, m: int) -> str:
         pr = science.get("params", {})
         how = "one of each mirror pair simulated, the other derived" if science.get("mirror_derive") else "simulated"
+        if science.get("refine"):  # a refine bundle (morphlearn.refine_bundle): say where it comes from
+            how += " one by one, every cell, by tools/refine_design.py (run keys in the store's record)"
         if ad := science.get("adaptive_weights"):
             how += (
                 f", weight grid refined adaptively around successes and near misses (within "
