@@ -83,6 +83,7 @@ def test_bundle_holds_the_folders_metrics_and_the_workflow_reads_it(tmp_path: Pa
     sci = store.science_of(ds)
     assert sci["weights"] == 3 and sci["early_stop"] and "adaptive_weights" not in sci and "mirror_derive" not in sci
     assert sci["refine"]["body_file_sha256"] == provenance.sha256_file(BODY)
+    assert sci["refine"]["engine_identity"].keys() == {"pybullet"} and not sci["refine"]["mirror_derive"]
     assert sci["refine"]["run_keys"] == {
         str(designs[1]): rz.read_manifest(a)["run_key"],
         str(designs[0]): rz.read_manifest(b)["run_key"],

@@ -137,7 +137,10 @@ def science_record(sources: list[Source], positions: int = POSITIONS) -> dict[st
             "body_file": man.get("body_file"),
             "body_file_sha256": man.get("body_file_sha256"),
             "run_keys": {str(s.design): s.manifest["run_key"] for s in sources},
+            # said outright here (the run's keys above only name levers that are on)
             "every_cell_simulated": True,
+            "adaptive_weights": False,
+            "mirror_derive": False,
         },
     }
 
