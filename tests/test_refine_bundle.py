@@ -88,6 +88,7 @@ def test_bundle_holds_the_folders_metrics_and_the_workflow_reads_it(tmp_path: Pa
         str(designs[1]): rz.read_manifest(a)["run_key"],
         str(designs[0]): rz.read_manifest(b)["run_key"],
     }
+    assert "NaN" not in ds.attrs["provenance_json"]  # strict JSON (the folders logged no cost)
     assert models.get("empirical").positions_of(sci) == 9
     assert (
         "2 designs simulated one by one, every cell, by tools/refine_design.py (run keys in the store's "

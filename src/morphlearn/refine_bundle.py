@@ -209,7 +209,8 @@ def build(folders: list[str | Path], out: str | Path, *, command: str | None = N
             "rows_sha256": provenance.sha256_file(s.folder / "rows"),
             "manifest_sha256": provenance.sha256_file(rz.manifest_path(s.folder)),
             "row_commits": _row_commits(s.folder),
-            "cost": rz.cost(s.folder),
+            # wall and CPU time of its rows (None where the folder logged none: JSON has no NaN)
+            "cost": {k: None if isinstance(v, float) and v != v else v for k, v in rz.cost(s.folder).items()},
         }
         for s in sources
     }
@@ -341,7 +342,7 @@ def readme(manifest: dict[str, Any], sci: dict[str, Any], table: pd.DataFrame, f
         rows.append(
             f"| {int(r.design)} | ({r.l1x:g}, {r.l1y:g}) | ({r.l2x:g}, {r.l2y:g}) | {int(r.generalists)} | "
             f"{int(r.at_least_one)} | {r.M_L:.6g} | {r.M_CF:.6g} | `{folder}` | `{f['run_key'][:16]}` | "
-            f"{commits} | {f['cost']['cpu_s']:,.0f} |"
+            f"{commits or 'not logged'} | {f['cost']['cpu_s']:,.0f} |"
         )
     eid = ref["engine_identity"]
     engine_id = ", ".join(f"{k} {v}" for k, v in eid.items() if k not in ("engine", "mujoco_settings"))
