@@ -10,6 +10,9 @@
   export:    refine_design.py export /work/runs/refine/canonical_121/ results/refine/canonical_121/
              (a small bundle for git: manifest, verified rows, logs, summary.json, README.md;
              re-export to add later rows)
+  bundle:    refine_design.py bundle results/refine/canonical_121 [more folders] --out results/refine-pybullet
+             (complete folders of one engine -> a results bundle a run reads with
+             empirical.results_from / mujoco.results_from on the 9-position grid)
 
 Levers: early stop (exact, docs/empirical_levers.md) on unless --no-early-stop; never the
 adaptive weight grid (this is the reference it is measured against). See
@@ -230,6 +233,24 @@ def cmd_export(a: argparse.Namespace) -> int:
     return 0
 
 
+def cmd_bundle(a: argparse.Namespace) -> int:
+    """A results bundle of complete folders (morphlearn.refine_bundle), for ``<model>.results_from``."""
+    import time
+
+    from morphlearn import refine_bundle
+
+    t0 = time.perf_counter()
+    man = refine_bundle.build(a.folders, a.out)  # its README and bundle.json name this command
+    size = sum(p.stat().st_size for p in a.out.rglob("*") if p.is_file())
+    model = man["made_by"]["model"]
+    print(
+        f"bundle {a.out}: {model} designs {man['subsets'][model]['designs']}, {len(man['files'])} files, "
+        f"{size / 1e6:.2f} MB, {time.perf_counter() - t0:.1f} s; check: morphlearn check-bundle {a.out}",
+        file=sys.stderr,
+    )
+    return 0
+
+
 def cmd_adaptive(a: argparse.Namespace) -> int:
     """The adaptive weight grid's misses at each ``--near``, replayed on a complete exhaustive folder."""
     from morphlearn import metrics
@@ -292,6 +313,12 @@ def main(argv: list[str] | None = None) -> int:
     e = sub.add_parser("export", help="copy the verified rows, manifest and logs to a bundle folder with a README")
     e.add_argument("folder", type=Path)
     e.add_argument("dest", type=Path)
+    b = sub.add_parser(
+        "bundle", help="a results bundle of complete folders of one engine and settings (<model>.results_from)"
+    )
+    b.add_argument("folders", type=Path, nargs="+", help="complete refine folders (designs of the 9-position grid)")
+    b.add_argument("--out", type=Path, required=True, help="the bundle folder (absent, empty or a refine bundle)")
+    b.set_defaults(fn=cmd_bundle)
     ad = sub.add_parser("adaptive", help="replay the adaptive weight grid on a complete folder: what it misses")
     ad.add_argument("folder", type=Path)
     ad.add_argument("--near", type=float, nargs="+", default=[4.0, 1.5], help="near thresholds (contact distances)")

@@ -73,9 +73,10 @@ class Physics(Model):
         enabled = bool(sec.get("enabled"))
         g = grid.designs
         results_from = sec.get("results_from")
-        bundle_th = None
+        bundle_th, weights = None, sec.get("weights", 11)
         if enabled and results_from is not None:
-            bundle_th = self.check_results_bundle(results_from, grid.positions_per_axis)
+            # the bundle's weights, not the section's: the summary counts its controllers
+            bundle_th, weights = self.check_results_bundle(results_from, grid.positions_per_axis)
         params, body = None, None
         # the body file is read here, once: the sweep's science and Fig. 1C (the body) need it
         if enabled or (self.figure_body and shared.figures.enabled):
@@ -108,7 +109,7 @@ class Physics(Model):
             enabled=enabled,
             morphology=sec.get("morphology", DEFAULT_MORPHOLOGY),
             params=params,
-            weights=sec.get("weights", 11),
+            weights=weights,
             held=tuple(held),
             simulated=tuple(simulated),
             mirror_derive=mirror_derive,
@@ -170,11 +171,12 @@ class Physics(Model):
                 f"simulated; allowed: 1..{len(simulated)}"
             )
 
-    def check_results_bundle(self, path: str, n: int, key: str | None = None) -> dict[str, float]:
+    def check_results_bundle(self, path: str, n: int, key: str | None = None) -> tuple[dict[str, float], int]:
         """A bundle to read the results from: present, on this config's grid (its checksums are
         checked when the results are copied, by the rule <model>_from_bundle). Returns the
-        thresholds its metrics were made with. ``key``: the config key naming it (error messages)."""
-        from morphlearn import bundle
+        thresholds its metrics were made with and its weights per synapse. ``key``: the config key
+        naming it (error messages)."""
+        from morphlearn import bundle, store
 
         key = key or f"{self.name}.results_from"
         need = [
@@ -191,6 +193,7 @@ class Physics(Model):
             )
         try:
             positions = bundle.positions_of(Path(path) / self.name)
+            weights = int(store.open_merged(Path(path) / self.name / "merged.zarr").sizes["w1"])
             prov = json.loads((Path(path) / self.name / "metrics.provenance.json").read_text())
             thresholds = dict(prov["config"]["thresholds"])
         except Exception as e:  # a damaged store: say which and why, in one line
@@ -200,7 +203,7 @@ class Physics(Model):
                 f"{key} = {path!r} holds results on the {positions}-point grid; "
                 f"allowed: a bundle on grid.positions_per_axis = {n}"
             )
-        return thresholds
+        return thresholds, weights
 
     def results_from(self, s: Settings) -> str | None:
         return self.settings(s).results_from
@@ -255,6 +258,10 @@ class Physics(Model):
         g = gridmod.DesignGrid(self.positions_of(science))
         w = gridmod.weights(science["weights"])
         params = EmpiricalParams.from_mapping(science["params"])
+        if "refine" in science:  # a refine bundle (morphlearn.refine_bundle): only in its own engine
+            from morphlearn.refine_bundle import check_engine
+
+            check_engine(dict(science))
         options = SweepOptions.from_science(science)  # early stop, adaptive grid: as the run had them
         evaluate_design = self.design_evaluator()
         out, made = [], {}
@@ -284,6 +291,8 @@ class Physics(Model):
     def describe(self, science: Mapping[str, Any], n_designs: int, m: int) -> str:
         pr = science.get("params", {})
         how = "one of each mirror pair simulated, the other derived" if science.get("mirror_derive") else "simulated"
+        if science.get("refine"):  # a refine bundle (morphlearn.refine_bundle): say where it comes from
+            how += " one by one, every cell, by tools/refine_design.py (run keys in the store's record)"
         if ad := science.get("adaptive_weights"):
             how += (
                 f", weight grid refined adaptively around successes and near misses (within "
