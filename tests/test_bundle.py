@@ -12,7 +12,7 @@ import pandas as pd
 import pytest
 from conftest import copy_workflow, job_stats, snakemake
 
-from morphlearn import bundle, bundle_check, cli, metrics, resimulate, store
+from morphlearn import bundle, bundle_check, bundle_rerender, cli, metrics, resimulate, store
 from morphlearn import grid as gridmod
 
 
@@ -139,3 +139,17 @@ def test_render_from_bundle_alone(smoke_bundle: Path, tmp_path: Path) -> None:
     )
     html = (wd / "results/report.html").read_text()
     assert "Overlapped binary success matrices" in html and "Reproduction" in html
+    # a figure's code changes (here the shared style): `morphlearn rerender-bundle` re-renders the
+    # bundle and re-seals exactly the rendered files that changed, the data untouched
+    data = {r: d for r, d in json.loads((out / bundle.MANIFEST).read_text())["files"].items() if "figures/" not in r}
+    style = wd / "notebooks/style.mplstyle"
+    style.write_text(style.read_text() + "\naxes.titlesize: 9\n")
+    changed = bundle_rerender.rerender("results/paper", wd)
+    assert changed and all(r.startswith("figures/") for r in changed), changed
+    manifest = json.loads((out / bundle.MANIFEST).read_text())
+    assert manifest["rendered_by"]["files"] == changed and bundle_check.check(out) == []
+    assert {r: d for r, d in manifest["files"].items() if "figures/" not in r} == data
+    # a bundle that is not whole is not re-rendered (nothing re-sealed over an edit)
+    (out / "summary.md").write_text("edited\n")
+    with pytest.raises(bundle.BundleError, match="not re-rendered"):
+        bundle_rerender.rerender("results/paper", wd)

@@ -152,6 +152,27 @@ def cmd_check_bundle(a: argparse.Namespace) -> int:
     return 1 if problems else 0
 
 
+def cmd_rerender_bundle(a: argparse.Namespace) -> int:
+    from pathlib import Path
+
+    from morphlearn import bundle, bundle_rerender
+
+    root = Path.cwd()
+    if not (root / "Snakefile").is_file():
+        raise UsageError("run it from the project's root folder (where the Snakefile is)")
+    if not (root / a.bundle / bundle.MANIFEST).is_file():
+        raise UsageError(f"{a.bundle}: no {bundle.MANIFEST} (a results bundle under the project, e.g. results/paper)")
+    try:
+        changed = bundle_rerender.rerender(a.bundle, root, a.cores)
+    except bundle.BundleError as e:
+        print(str(e))
+        return 1
+    print(f"{a.bundle}: re-rendered; {len(changed)} rendered file(s) changed and re-sealed" + (": " if changed else ""))
+    for rel in changed:
+        print(f"  {rel}")
+    return 0
+
+
 def cmd_compare(a: argparse.Namespace) -> int:
     """Rank agreement of two metrics tables over the designs both hold (theory vs physics, or one
     body vs another)."""
@@ -285,6 +306,13 @@ def build_parser() -> argparse.ArgumentParser:
         "resolution; e.g. empirical:12, a pybullet design of the 11 x 11 survey: about 50 CPU-s)",
     )
     b.set_defaults(func=cmd_check_bundle)
+    r = sub.add_parser(
+        "rerender-bundle",
+        help="re-render a bundle's figures and tables with the current code and re-seal what changed",
+    )
+    r.add_argument("bundle", metavar="DIR", help="the bundle, relative to the project root (e.g. results/survey)")
+    r.add_argument("--cores", type=int, default=2, metavar="N", help="Snakemake cores (2)")
+    r.set_defaults(func=cmd_rerender_bundle)
     c = sub.add_parser("compare", help="rank agreement (Spearman, bootstrap interval) of two metrics tables")
     c.add_argument("a", metavar="METRICS_A", help="a metrics.csv (e.g. results/survey/theory/metrics.csv)")
     c.add_argument("b", metavar="METRICS_B", help="another, on the same design grid")

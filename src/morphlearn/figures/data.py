@@ -53,6 +53,18 @@ def engine_label(model: str) -> str:
     return getattr(m, "engine_label", "") or getattr(m, "engine", model)
 
 
+def dataset_label(res: ModelResults, short: bool = False) -> str:
+    """How a figure names a model's results: a physics engine with its weight grid
+    (``pybullet, 121 x 121 weights``; ``short``, for panel titles: ``pybullet (121 x 121)``), the
+    theory by its name."""
+    from morphlearn import models
+
+    if not hasattr(models.get(res.model), "engine"):
+        return res.model
+    m = len(res.weights)
+    return f"{engine_label(res.model)} ({m} x {m})" if short else f"{engine_label(res.model)}, {m} x {m} weights"
+
+
 def row_design(row: pd.Series) -> Design:
     return (float(row.l1x), float(row.l1y)), (float(row.l2x), float(row.l2y))
 

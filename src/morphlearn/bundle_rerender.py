@@ -1,0 +1,74 @@
+"""Re-render a committed results bundle with the current code and re-seal what the render wrote.
+
+A bundle's figures and tables are rendered by the commit that made it; when a figure's code
+changes (a title, a caption), ``render_only`` re-renders them and ``check-bundle`` then reports the
+new bytes as changed. :func:`rerender` does that render in place with the bundle's own configs and
+updates ``bundle.json`` for exactly the rendered files that changed, after checking that the bundle
+was whole before and that nothing else changed (the data, the README: never re-sealed here). The
+manifest records the commit that rendered them (``rendered_by``) beside the one that made the run.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import subprocess
+import sys
+from pathlib import Path, PurePosixPath
+
+from morphlearn import bundle, bundle_check, provenance, store
+
+#: Files of a bundle that a render writes (figures and the reproduction tables).
+RENDERED_SUFFIXES = (".png", ".pdf", ".caption.md")
+RENDERED_TABLES = ("reproduction.csv", "reproduction.md", "reproduction.html", "persistence.csv")
+
+
+def is_rendered(rel: str) -> bool:
+    p = PurePosixPath(rel)
+    return rel in RENDERED_TABLES or (p.parts[0] == "figures" and rel.endswith(RENDERED_SUFFIXES))
+
+
+def render_command(bundle_dir: str | Path, manifest: dict, cores: int) -> list[str]:
+    """The README's render-only command for this bundle, with the configs that made it."""
+    configs = [c for c in manifest.get("made_by", {}).get("configs", []) if Path(c).name != "config.yaml"]
+    snakemake = str(Path(sys.executable).with_name("snakemake"))
+    cmd = [snakemake, "--cores", str(cores), *(["--configfile", *configs] if configs else [])]
+    return [*cmd, "--config", "render_only=True", f"results_dir={bundle_dir}", "--forceall"]
+
+
+def rerender(bundle_dir: str | Path, root: str | Path, cores: int = 2) -> list[str]:
+    """Re-render ``bundle_dir`` (relative to the project ``root``) and re-seal its rendered files;
+    the files whose digests changed. Raises BundleError (nothing re-sealed) if the bundle is not
+    whole before, the render fails, or anything but a rendered file changed."""
+    root = Path(root)
+    path = root / bundle_dir
+    problems = bundle_check.check(path)
+    if problems:
+        raise bundle.BundleError(f"{bundle_dir}: not re-rendered: {len(problems)} problem(s) first, {problems[0]}")
+    mpath = path / bundle.MANIFEST
+    manifest = json.loads(mpath.read_text())
+    cmd = render_command(bundle_dir, manifest, cores)
+    proc = subprocess.run(cmd, cwd=root, capture_output=True, text=True, env=dict(os.environ))
+    if proc.returncode != 0:
+        raise bundle.BundleError(f"{bundle_dir}: the render failed (exit {proc.returncode}): {proc.stderr[-1500:]}")
+    changed = {rel: provenance.sha256_file(path / rel) for rel in manifest["files"]}
+    changed = {rel: d for rel, d in changed.items() if d != manifest["files"][rel]}
+    other = sorted(rel for rel in changed if not is_rendered(rel))
+    if other:
+        raise bundle.BundleError(
+            f"{bundle_dir}: the render changed {other[0]}, which it does not make; nothing re-sealed"
+        )
+    if changed:
+        manifest["files"].update(changed)
+        before = manifest.get("rendered_by", {}).get("files", [])
+        manifest["rendered_by"] = {
+            "git_commit": provenance.git_commit(),
+            "command": " ".join(["snakemake", *cmd[1:]]),
+            "files": sorted({*before, *changed}),
+        }
+        with store.atomic_path(mpath) as tmp:
+            tmp.write_text(json.dumps(manifest, indent=1, sort_keys=True) + "\n")
+    left = bundle_check.check(path)
+    if left:
+        raise bundle.BundleError(f"{bundle_dir}: after the render: {left[0]}")
+    return sorted(changed)
