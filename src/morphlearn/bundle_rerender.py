@@ -48,6 +48,7 @@ def rerender(bundle_dir: str | Path, root: str | Path, cores: int = 2) -> list[s
     mpath = path / bundle.MANIFEST
     manifest = json.loads(mpath.read_text())
     cmd = render_command(bundle_dir, manifest, cores)
+    commit = provenance.git_commit()  # before the render writes into the (tracked) bundle
     proc = subprocess.run(cmd, cwd=root, capture_output=True, text=True, env=dict(os.environ))
     if proc.returncode != 0:
         raise bundle.BundleError(f"{bundle_dir}: the render failed (exit {proc.returncode}): {proc.stderr[-1500:]}")
@@ -62,7 +63,7 @@ def rerender(bundle_dir: str | Path, root: str | Path, cores: int = 2) -> list[s
         manifest["files"].update(changed)
         before = manifest.get("rendered_by", {}).get("files", [])
         manifest["rendered_by"] = {
-            "git_commit": provenance.git_commit(),
+            "git_commit": commit,
             "command": " ".join(["snakemake", *cmd[1:]]),
             "files": sorted({*before, *changed}),
         }
