@@ -18,6 +18,7 @@ from morphlearn.bundle import BundleError
 from morphlearn.empirical import resumable as rz
 from morphlearn.empirical.options import SweepOptions
 from morphlearn.empirical.params import load_params
+from morphlearn.figures import options
 from morphlearn.grid import DesignGrid, canonical_design
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -101,6 +102,8 @@ def test_bundle_holds_the_folders_metrics_and_the_workflow_reads_it(tmp_path: Pa
     )
     s = settings.parse(cfg)
     assert len(s.weights("empirical")) == 3  # the bundle's weights, not the section's 11
+    # it holds two designs: not a survey, so no theory-against-physics survey figure
+    assert s.models["empirical"].held == tuple(sorted(designs)) and not options.empirical_survey(s)
     run = tmp_path / "run" / "empirical"
     bundle_check.extract_model(
         out,

@@ -13,6 +13,7 @@ import yaml
 from conftest import copy_workflow, job_stats, snakemake
 
 from morphlearn import bundle, bundle_check, models, settings
+from morphlearn.figures import options
 
 # 81 designs (45 simulated with mirror derivation), 2 x 2 weights, a near light and a short
 # horizon so that some controllers succeed in seconds of CPU.
@@ -85,7 +86,9 @@ def test_results_from_reads_the_bundle(survey_run: Path, tmp_path: Path) -> None
     bundled = pd.read_csv(survey_run / "results" / "toy-survey" / "empirical" / "metrics.csv")
     pd.testing.assert_frame_equal(got, bundled)
     pd.testing.assert_frame_equal(pd.read_csv(r / "survey" / "empirical" / "metrics.csv"), bundled)
-    assert (r / "figures" / "survey.png").is_file()
+    # the survey figure draws the survey_from bundle's copy (its caption cites that table), engine named
+    caps = (r / "figures" / "survey.caption.md").read_text()
+    assert "survey/empirical/metrics.csv" in caps and "physics: pybullet, 3 x 3 weights" in caps
     cap7 = (r / "figures" / "fig7.caption.md").read_text()
     assert "the largest survey: pybullet, all 81 designs" in cap7 and "survey/empirical/metrics.csv" in cap7
     rows = pd.read_csv(r / "reproduction.csv")
@@ -148,6 +151,10 @@ def test_results_from_bad_values_are_named(tmp_path: Path) -> None:
             settings.parse(cfgmod.deep_merge(cfg, {"survey_from": survey}))
     ok = settings.parse(cfgmod.deep_merge(base, {"survey_from": {"bundle": str(root / "results" / "survey-mujoco")}}))
     assert ok.survey.model == "mujoco" and ok.survey.folder == "survey/mujoco" and ok.survey.thresholds
+    # the survey figure: drawn from a survey_from bundle, also without the run's own survey
+    assert options.empirical_survey(ok)
+    assert options.empirical_survey(settings.parse(base))  # config.yaml: results/survey, all 625 designs
+    assert not options.empirical_survey(settings.parse(nine))
 
 
 def test_default_run_reads_the_committed_survey(tmp_path: Path) -> None:

@@ -25,6 +25,8 @@ PAIR: tuple[str, str] = tuple(models.MODELS)[:2]  # type: ignore[assignment]
 
 #: Fewest bootstrap resamples of an interval: the config's ``learners.bootstrap`` minimum (one rule).
 MIN_RESAMPLES: int = config.schema()["properties"]["learners"]["properties"]["bootstrap"]["minimum"]
+#: Fewest designs a rank agreement is computed over (two designs give rho = +-1 whatever they hold).
+MIN_DESIGNS = 3
 
 
 def read_table(path: str | Path) -> pd.DataFrame:
@@ -93,6 +95,9 @@ class RankAgreement:
     level: float
 
     def text(self) -> str:
+        if self.n < MIN_DESIGNS:
+            some = f"{self.n} design{'s' if self.n != 1 else ''}"
+            return f"undefined (only {some} in both; a rank correlation needs {MIN_DESIGNS})"
         if np.isnan(self.rho):
             return f"undefined (one model gives every one of the {self.n} designs the same value)"
         interval = f"{self.level:.0%} bootstrap interval, {self.n} designs"
@@ -105,6 +110,8 @@ def spearman_ci(
     """Spearman's rho of paired per-design values with a percentile bootstrap interval over designs
     (seeded: the same inputs give the same interval)."""
     x, y = np.asarray(x, float), np.asarray(y, float)
+    if len(x) < MIN_DESIGNS:  # e.g. a physics run of one refined design: no ranks to compare
+        return RankAgreement(metric, len(x), np.nan, np.nan, np.nan, level)
     rho = float(stats.spearmanr(x, y).statistic)
 
     def stat(a: np.ndarray, b: np.ndarray) -> float:

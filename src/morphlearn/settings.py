@@ -149,7 +149,7 @@ def _parse_survey(sec: Mapping[str, Any], grid: GridSettings) -> SurveySettings:
         return SurveySettings(None, name, None)
     model = models.get(name)
     assert isinstance(model, Physics)
-    th, _ = model.check_results_bundle(bundle, grid.positions_per_axis, key="survey_from.bundle")
+    th, _, _ = model.check_results_bundle(bundle, grid.positions_per_axis, key="survey_from.bundle")
     table = Path(bundle) / name / "metrics.csv"
     rows = table.read_bytes().count(b"\n") - 1  # one header line, one line per design
     if rows != grid.designs.size:

@@ -73,10 +73,10 @@ class Physics(Model):
         enabled = bool(sec.get("enabled"))
         g = grid.designs
         results_from = sec.get("results_from")
-        bundle_th, weights = None, sec.get("weights", 11)
+        bundle_th, weights, from_held = None, sec.get("weights", 11), ()
         if enabled and results_from is not None:
             # the bundle's weights, not the section's: the summary counts its controllers
-            bundle_th, weights = self.check_results_bundle(results_from, grid.positions_per_axis)
+            bundle_th, weights, from_held = self.check_results_bundle(results_from, grid.positions_per_axis)
         params, body = None, None
         # the body file is read here, once: the sweep's science and Fig. 1C (the body) need it
         if enabled or (self.figure_body and shared.figures.enabled):
@@ -87,7 +87,7 @@ class Physics(Model):
         if body is not None:
             params = EmpiricalParams.from_mapping({**body.to_dict(), **overrides})
         simulates = enabled and results_from is None
-        held = self._held(sec, g) if simulates else []
+        held = self._held(sec, g) if simulates else list(from_held)
         mirror_derive = bool(sec.get("mirror_derive", False))
         simulated = sorted({min(d, int(g.mirror(d))) for d in held}) if mirror_derive else list(held)
         if simulates:
@@ -171,12 +171,15 @@ class Physics(Model):
                 f"simulated; allowed: 1..{len(simulated)}"
             )
 
-    def check_results_bundle(self, path: str, n: int, key: str | None = None) -> tuple[dict[str, float], int]:
+    def check_results_bundle(
+        self, path: str, n: int, key: str | None = None
+    ) -> tuple[dict[str, float], int, tuple[int, ...]]:
         """A bundle to read the results from: present, on this config's grid (its checksums are
         checked when the results are copied, by the rule <model>_from_bundle). Returns the
-        thresholds its metrics were made with and its weights per synapse. ``key``: the config key
-        naming it (error messages)."""
-        from morphlearn import bundle, store
+        thresholds its metrics were made with, its weights per synapse and the designs its results
+        hold (a survey: all; a refine bundle: a few). ``key``: the config key naming it (error
+        messages)."""
+        from morphlearn import store
 
         key = key or f"{self.name}.results_from"
         need = [
@@ -192,8 +195,11 @@ class Physics(Model):
                 + (" to simulate" if key.endswith("results_from") else "")
             )
         try:
-            positions = bundle.positions_of(Path(path) / self.name)
-            weights = int(store.open_merged(Path(path) / self.name / "merged.zarr").sizes["w1"])
+            merged = store.open_merged(Path(path) / self.name / "merged.zarr")
+            sci = store.science_of(merged)
+            positions = self.positions_of(sci)
+            weights = int(merged.sizes["w1"])
+            held = tuple(int(d) for d in sci["designs"])
             prov = json.loads((Path(path) / self.name / "metrics.provenance.json").read_text())
             thresholds = dict(prov["config"]["thresholds"])
         except Exception as e:  # a damaged store: say which and why, in one line
@@ -203,7 +209,7 @@ class Physics(Model):
                 f"{key} = {path!r} holds results on the {positions}-point grid; "
                 f"allowed: a bundle on grid.positions_per_axis = {n}"
             )
-        return thresholds, weights
+        return thresholds, weights, held
 
     def results_from(self, s: Settings) -> str | None:
         return self.settings(s).results_from

@@ -17,9 +17,10 @@ PAPER_FIGURES = tuple(f for f, spec in FIGURE_SPECS.items() if spec.needs is Non
 
 
 def empirical_survey(s: Settings) -> bool:
-    """The physics results cover every design of the grid (simulated, or read from a bundle)."""
+    """A physics survey of every design of the grid: the run's (simulated, or read from a bundle
+    that holds them all) or the bundle of ``survey_from`` (which the survey figure then draws)."""
     e = s.models["empirical"]
-    return e.enabled and (e.results_from is not None or len(e.held) == s.grid.designs.size)
+    return s.survey.bundle is not None or (e.enabled and len(e.held) == s.grid.designs.size)
 
 
 #: Figure conditions besides "a config section is enabled" (registry ``needs``).

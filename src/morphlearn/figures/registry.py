@@ -62,7 +62,7 @@ FIGURES: dict[str, Figure] = {
         files=("coopt/summary.csv", "coopt/runs.csv", "coopt/position_map.csv"),
     ),
     # beyond the paper: theory against physics per design (issue 12; config/survey.yaml)
-    "survey": Figure(reads=("theory", "empirical"), needs="empirical_survey", options=("top",)),
+    "survey": Figure(reads=("theory", "empirical"), needs="empirical_survey", options=("top",), survey=True),
 }
 
 #: Every figure rule's input: the one matplotlib style all figures use.

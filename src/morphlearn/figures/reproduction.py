@@ -284,9 +284,10 @@ def engine_rows(
             (
                 f"rho_{m}_nonzero",
                 f"{ref} vs {label}: Spearman rho of {m}, designs non-zero in either",
-                ag_nz.text() if ag_nz is not None else f"{len(nz)} designs: too few",
+                ag_nz.text() if ag_nz is not None else f"{len(nz)} design{'' if len(nz) == 1 else 's'}: too few",
             ),
-            (f"top10_{m}", f"{ref} vs {label}: designs in both top 10 by {m}", f"{top} of 10"),
+            # of at most the designs both hold (a few refined designs: not "of 10")
+            (f"top10_{m}", f"{ref} vs {label}: designs in both top 10 by {m}", f"{top} of {min(10, len(both))}"),
         ]
     note = f"{b}: {science_summary(other)}"
     return [
