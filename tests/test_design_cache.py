@@ -164,7 +164,9 @@ def test_theory_shard_saves_each_batch_as_it_finishes(tmp_path: Path, monkeypatc
     assert not (tmp_path / "shard_0.nc").exists()
 
 
-def test_adding_designs_to_a_physics_run_reuses_the_designs_done(tmp_path: Path, capsys: pytest.CaptureFixture) -> None:
+def test_adding_designs_to_a_physics_run_reuses_the_designs_done(
+    tmp_path: Path, capsys: pytest.CaptureFixture, monkeypatch: pytest.MonkeyPatch
+) -> None:
     """A physics run's science lists its designs; the cache is keyed without that list, so a run
     with more designs (issue 26: candidates added to the refinement) recomputes only the new ones,
     and designs kept under the old key (the digest of the whole science) are still reused."""
@@ -177,15 +179,9 @@ def test_adding_designs_to_a_physics_run_reuses_the_designs_done(tmp_path: Path,
         section |= {"include_mirrors": False, "params": {"light_distance": 2.5, "steps": 100}}
         cfg = {"results_dir": str(tmp_path / "r"), "grid": {"positions_per_axis": 3}, "mujoco": section}
         cfg |= {"figures": {"enabled": False}, "empirical": {"enabled": False}}
-        import os
+        return settings.parse(config.deep_merge(SMOKE, cfg))
 
-        cwd = Path.cwd()
-        os.chdir(ROOT)  # the body file is named relative to the project root
-        try:
-            return settings.parse(config.deep_merge(SMOKE, cfg))
-        finally:
-            os.chdir(cwd)
-
+    monkeypatch.chdir(ROOT)  # the body file is named relative to the project root
     a, b = parse(one), parse(two)
     assert mj.science(a) != mj.science(b)  # the design list is part of the run's science ...
     folder = design_cache.cache_dir(a.results_dir, "mujoco", mj.science(a))
