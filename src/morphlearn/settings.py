@@ -149,12 +149,10 @@ def _parse_survey(sec: Mapping[str, Any], grid: GridSettings) -> SurveySettings:
         return SurveySettings(None, name, None)
     model = models.get(name)
     assert isinstance(model, Physics)
-    th, _, _ = model.check_results_bundle(bundle, grid.positions_per_axis, key="survey_from.bundle")
-    table = Path(bundle) / name / "metrics.csv"
-    rows = table.read_bytes().count(b"\n") - 1  # one header line, one line per design
-    if rows != grid.designs.size:
+    th, _, held = model.check_results_bundle(bundle, grid.positions_per_axis, key="survey_from.bundle")
+    if len(held) != grid.designs.size:
         raise cfgmod.ConfigError(
-            f"survey_from.bundle = {bundle!r}: its {name} results hold {rows} of the grid's "
+            f"survey_from.bundle = {bundle!r}: its {name} results hold {len(held)} of the grid's "
             f"{grid.designs.size} designs; allowed: a survey of every design (e.g. results/survey9-mujoco)"
         )
     return SurveySettings(bundle, name, MappingProxyType(th))
