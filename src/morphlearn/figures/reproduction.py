@@ -277,14 +277,14 @@ def engine_rows(
     for m in metrics.METRICS:
         ag = compare.spearman_ci(both[f"{m}_{a}"], both[f"{m}_{b}"], m)
         nz = both[(both[f"{m}_{a}"] > 0) | (both[f"{m}_{b}"] > 0)]
-        ag_nz = compare.spearman_ci(nz[f"{m}_{a}"], nz[f"{m}_{b}"], m) if len(nz) > 2 else None
+        ag_nz = compare.spearman_ci(nz[f"{m}_{a}"], nz[f"{m}_{b}"], m)  # fewer than 3: "undefined"
         top = int(((both[f"rank_{m}_{a}"] <= 10) & (both[f"rank_{m}_{b}"] <= 10)).sum())
         items += [
             (f"rho_{m}", f"{ref} vs {label}: Spearman rho of {m} over designs", ag.text()),
             (
                 f"rho_{m}_nonzero",
                 f"{ref} vs {label}: Spearman rho of {m}, designs non-zero in either",
-                ag_nz.text() if ag_nz is not None else f"{len(nz)} design{'' if len(nz) == 1 else 's'}: too few",
+                ag_nz.text(),
             ),
             # of at most the designs both hold (a few refined designs: not "of 10")
             (f"top10_{m}", f"{ref} vs {label}: designs in both top 10 by {m}", f"{top} of {min(10, len(both))}"),
