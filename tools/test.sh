@@ -8,4 +8,5 @@ echo "== ruff format (Python files; notebooks keep their own layout)"; ruff form
 echo "== snakefmt"; snakefmt --check Snakefile workflow/rules/
 echo "== snakemake --lint"; snakemake --lint --cores 1 >/dev/null
 echo "== dry run of the full config"; snakemake -n --configfile config/full.yaml --quiet rules >/dev/null
-echo "== pytest"; python -m pytest -q -ra "$@"
+# --durations: every run (CI included) prints its slowest tests, so the suite's time is watched, not guessed.
+echo "== pytest"; python -m pytest -q -ra --durations=40 "$@"
