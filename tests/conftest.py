@@ -69,3 +69,12 @@ def smoke_run(tmp_path_factory: pytest.TempPathFactory) -> Path:
     wd = copy_workflow(tmp_path_factory.mktemp("smoke"))
     snakemake(wd, "--cores", "2", "--configfile", "config/smoke.yaml")
     return wd
+
+
+def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item]) -> None:
+    """Under pytest-xdist (``-n N --dist loadgroup``, tools/test.sh) a worker takes whole groups: a
+    group is one test file (its module-scoped toy runs made once), and the files that read the
+    session's smoke run are one group, so that run is made once, not once per worker."""
+    shared = {item.path for item in items if "smoke_run" in item.fixturenames}
+    for item in items:
+        item.add_marker(pytest.mark.xdist_group("smoke_run" if item.path in shared else item.path.stem))
