@@ -71,6 +71,7 @@ def smoke_run(tmp_path_factory: pytest.TempPathFactory) -> Path:
     return wd
 
 
+@pytest.hookimpl(tryfirst=True)  # before xdist reads the marks into its node ids
 def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item]) -> None:
     """Under pytest-xdist (``-n N --dist loadgroup``, tools/test.sh) a worker takes whole groups: a
     group is one test file (its module-scoped toy runs made once), and the files that read the
