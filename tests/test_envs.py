@@ -97,6 +97,7 @@ def build_env(name: str, dest: Path) -> Path:
             "pip",
             "install",
             "-q",
+            "--compile-bytecode",  # as tools/setup.sh: each rule job and kernel loads bytecode
             "--python",
             str(dest / "bin/python"),
             "-c",

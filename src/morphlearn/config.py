@@ -8,12 +8,25 @@ import copy
 import hashlib
 import json
 import math
+import sys
 from importlib import resources
 from pathlib import Path
 from typing import Any
 
-import jsonschema
 import yaml
+
+# jsonschema imports rfc3987_syntax when it is installed (jupyter-events pulls it in), and that
+# import builds 39 lark grammars: about 2 CPU-s in every process that validates a config (the
+# Snakefile's parse and every rule job), for an "iri" format this schema does not use and whose
+# check jsonschema skips when the import fails. So the import fails here, for this import only.
+_blocked = "rfc3987_syntax" not in sys.modules
+if _blocked:
+    sys.modules["rfc3987_syntax"] = None  # type: ignore[assignment]
+try:
+    import jsonschema
+finally:
+    if _blocked:
+        del sys.modules["rfc3987_syntax"]
 
 
 class ConfigError(ValueError):
