@@ -10,6 +10,7 @@ echo "== snakemake --lint"; snakemake --lint --cores 1 >/dev/null
 echo "== dry run of the full config"; snakemake -n --configfile config/full.yaml --quiet rules >/dev/null
 # --durations: every run (CI included) prints its slowest tests, so the suite's time is watched, not guessed.
 # pytest-xdist: one worker per core, at most 4 (most tests run a toy workflow on one core); a worker
-# takes whole test files (tests/conftest.py groups them). MORPHLEARN_TEST_WORKERS=0 runs in-process.
+# takes whole test files, the longest first (tests/conftest.py groups and orders them).
+# MORPHLEARN_TEST_WORKERS=0 runs in-process.
 workers=${MORPHLEARN_TEST_WORKERS:-$(python -c 'import os; print(min(4, len(os.sched_getaffinity(0))))')}
-echo "== pytest ($workers workers)"; python -m pytest -q -ra --durations=40 -n "$workers" --dist loadgroup "$@"
+echo "== pytest ($workers workers)"; python -m pytest -q -ra --durations=40 -n "$workers" --dist loadgroup --no-loadscope-reorder "$@"
