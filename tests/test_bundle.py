@@ -102,24 +102,18 @@ def test_resimulated_designs_match_bundle(smoke_bundle: Path, tmp_path: Path) ->
     assert cli.main(["check-bundle", str(copy), "--resimulate", str(d)]) == 1
 
 
-def test_render_from_bundle_alone(smoke_bundle: Path, tmp_path: Path) -> None:
+def test_render_from_bundle_alone(smoke_bundle: Path, tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
     """A fresh clone holding only the bundle re-renders every figure and the table, simulating
     nothing, to the same bytes (captions name data paths relative to the results folder)."""
     wd = copy_workflow(tmp_path / "clone")
     out = wd / "results" / "paper"
     shutil.copytree(smoke_bundle, out)
-    proc = snakemake(
-        wd,
-        "--cores",
-        "2",
-        "--configfile",
-        "config/smoke.yaml",
-        "--config",
-        "render_only=True",
-        "results_dir=results/paper",
-        "--forceall",
-        timeout=600,
-    )
+    # the command `morphlearn rerender-bundle` runs: the README's render-only command with the
+    # configs the bundle was made with
+    manifest = json.loads((out / bundle.MANIFEST).read_text())
+    cmd = bundle_rerender.render_command("results/paper", manifest, cores=2)
+    assert cmd[cmd.index("--configfile") + 1 : cmd.index("--config")] == ["config/smoke.yaml"], cmd
+    proc = snakemake(wd, *cmd[1:], timeout=600)
     jobs = job_stats(proc.stdout + proc.stderr)
     assert set(jobs) == {*(f"figure_fig{i}" for i in range(1, 8)), "reproduction", "all"}, jobs
     for i in range(1, 8):
@@ -139,17 +133,28 @@ def test_render_from_bundle_alone(smoke_bundle: Path, tmp_path: Path) -> None:
     )
     html = (wd / "results/report.html").read_text()
     assert "Overlapped binary success matrices" in html and "Reproduction" in html
-    # a figure's code changes (here the shared style): `morphlearn rerender-bundle` re-renders the
-    # bundle and re-seals exactly the rendered files that changed, the data untouched
-    data = {r: d for r, d in json.loads((out / bundle.MANIFEST).read_text())["files"].items() if "figures/" not in r}
-    style = wd / "notebooks/style.mplstyle"
-    style.write_text(style.read_text() + "\naxes.titlesize: 9\n")
-    changed = bundle_rerender.rerender("results/paper", wd)
-    assert changed and all(r.startswith("figures/") for r in changed), changed
+    # a figure's code changes: `morphlearn rerender-bundle` re-renders the bundle (that command,
+    # run above; here a render that draws fig1 anew) and re-seals exactly the rendered files that
+    # changed, the data untouched
+    data = {r: d for r, d in manifest["files"].items() if "figures/" not in r}
+    redrawn = ["figures/fig1.caption.md", "figures/fig1.png"]
+
+    def render(cmd_: list[str], root: Path, bundle_dir: str) -> None:
+        assert cmd_ == cmd and root == wd and bundle_dir == "results/paper"
+        for rel in redrawn:
+            (out / rel).write_bytes((out / rel).read_bytes() + b"\n")
+
+    monkeypatch.setattr(bundle_rerender, "_render", render)
+    assert bundle_rerender.rerender("results/paper", wd) == redrawn
     manifest = json.loads((out / bundle.MANIFEST).read_text())
-    assert manifest["rendered_by"]["files"] == changed and bundle_check.check(out) == []
+    assert manifest["rendered_by"]["files"] == redrawn and bundle_check.check(out) == []
     assert {r: d for r, d in manifest["files"].items() if "figures/" not in r} == data
+    # a render that changes what it does not make (the data) re-seals nothing
+    sealed = (out / bundle.MANIFEST).read_bytes()
+    monkeypatch.setattr(bundle_rerender, "_render", lambda *_: (out / "summary.md").write_text("edited\n"))
+    with pytest.raises(bundle.BundleError, match=r"summary\.md, which it does not make"):
+        bundle_rerender.rerender("results/paper", wd)
+    assert (out / bundle.MANIFEST).read_bytes() == sealed
     # a bundle that is not whole is not re-rendered (nothing re-sealed over an edit)
-    (out / "summary.md").write_text("edited\n")
     with pytest.raises(bundle.BundleError, match="not re-rendered"):
         bundle_rerender.rerender("results/paper", wd)

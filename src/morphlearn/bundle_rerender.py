@@ -36,6 +36,13 @@ def render_command(bundle_dir: str | Path, manifest: dict, cores: int) -> list[s
     return [*cmd, "--config", "render_only=True", f"results_dir={bundle_dir}", "--forceall"]
 
 
+def _render(cmd: list[str], root: Path, bundle_dir: str | Path) -> None:
+    """Run the render command in ``root``; BundleError if it fails."""
+    proc = subprocess.run(cmd, cwd=root, capture_output=True, text=True, env=dict(os.environ))
+    if proc.returncode != 0:
+        raise bundle.BundleError(f"{bundle_dir}: the render failed (exit {proc.returncode}): {proc.stderr[-1500:]}")
+
+
 def rerender(bundle_dir: str | Path, root: str | Path, cores: int = 2) -> list[str]:
     """Re-render ``bundle_dir`` (relative to the project ``root``) and re-seal its rendered files;
     the files whose digests changed. Raises BundleError (nothing re-sealed) if the bundle is not
@@ -49,9 +56,7 @@ def rerender(bundle_dir: str | Path, root: str | Path, cores: int = 2) -> list[s
     manifest = json.loads(mpath.read_text())
     cmd = render_command(bundle_dir, manifest, cores)
     commit = provenance.git_commit()  # before the render writes into the (tracked) bundle
-    proc = subprocess.run(cmd, cwd=root, capture_output=True, text=True, env=dict(os.environ))
-    if proc.returncode != 0:
-        raise bundle.BundleError(f"{bundle_dir}: the render failed (exit {proc.returncode}): {proc.stderr[-1500:]}")
+    _render(cmd, root, bundle_dir)
     changed = {rel: provenance.sha256_file(path / rel) for rel in manifest["files"]}
     changed = {rel: d for rel, d in changed.items() if d != manifest["files"][rel]}
     other = sorted(rel for rel in changed if not is_rendered(rel))
