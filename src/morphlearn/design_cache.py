@@ -48,6 +48,11 @@ def design_path(folder: Path, design: int) -> Path:
     return folder / f"design_{int(design)}.nc"
 
 
+def partial_path(folder: Path, design: int) -> Path:
+    """Where a running design keeps its finished episodes (:mod:`morphlearn.empirical.partial`)."""
+    return folder / f"design_{int(design)}.partial.npz"
+
+
 def load(
     folder: Path,
     designs: np.ndarray,
@@ -74,6 +79,7 @@ def load(
                 print(f"design cache: not reused: {e}", flush=True)
                 continue
             found[int(d)] = DesignResult(*(sh.arrays[k][0] for k in store.VARS))
+            partial_path(folder, d).unlink(missing_ok=True)  # left by a kill between save and removal
             break
     return found
 

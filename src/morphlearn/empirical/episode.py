@@ -16,12 +16,15 @@ bit-for-bit identical to ones in a fresh client (tested).
 from __future__ import annotations
 
 import math
+import time
 from collections.abc import Callable
 from dataclasses import dataclass
+from pathlib import Path
 
 import numpy as np
 import pybullet as pb
 
+from morphlearn.empirical import partial as partial_cells
 from morphlearn.empirical.options import SweepOptions
 from morphlearn.empirical.params import EmpiricalParams
 from morphlearn.empirical.reach import CHECK_EVERY, ReachBound, sensor_reach
@@ -196,8 +199,14 @@ def evaluate_design(
     params: EmpiricalParams | None = None,
     progress: Callable[[int, int], None] | None = None,
     options: SweepOptions | None = None,
+    partial: Path | None = None,
 ) -> DesignResult:
     """All (env, w1, w2) episodes of one design; arrays (4, m, m) indexed [env, i_w1, i_w2].
+
+    ``partial``: a file that keeps the episodes done so far while the design runs
+    (:mod:`morphlearn.empirical.partial`); a design stopped by an error, Ctrl-C or a kill resumes
+    from it without re-simulating them, to the same result. The caller removes it once the
+    design's result is stored.
 
     ``progress(done, total)`` is called after each episode if given (cells inferred by the
     adaptive grid count as done when their environment ends). A non-finite state gives status
@@ -207,35 +216,57 @@ def evaluate_design(
     options = options or SweepOptions()
     w = np.asarray(weights, dtype=np.float64)
     m = len(w)
-    first = np.full((4, m, m), np.nan)
-    dist = np.full((4, m, m), np.nan)
-    status = np.full((4, m, m), STATUS_OK, dtype=np.int8)
+    ident = partial_cells.identity(l1, l2, w, params, options) if partial is not None else ""
+    cells = partial_cells.load(partial, ident, (4, m, m)) if partial is not None else None
+    if cells is None:
+        cells = partial_cells.Cells(
+            first_time=np.full((4, m, m), np.nan),
+            min_dist=np.full((4, m, m), np.nan),
+            status=np.full((4, m, m), STATUS_OK, dtype=np.int8),
+            simulated=np.zeros((4, m, m), bool),
+        )
+    else:
+        print(f"partial design {partial}: resumed, {int(cells.simulated.sum())} episodes done", flush=True)
+    first, dist, status, have = cells.first_time, cells.min_dist, cells.status, cells.simulated
     total, done = 4 * m * m, 0
+    saved = time.monotonic()
     with EpisodeRunner(params) as runner:
         near = options.near * runner.params.contact_distance
 
         def simulate(env: int, i: int, j: int) -> tuple[bool, bool]:
-            nonlocal done
+            nonlocal done, saved
+            if have[env, i, j]:  # resumed: the episode's stored outcome, exactly as it was run
+                done += 1
+                return not math.isnan(first[env, i, j]), bool(dist[env, i, j] <= near)
             b = runner.bound(l1, l2, w[i], w[j], options.margin) if options.early_stop else None
             ep = runner.run(l1, l2, w[i], w[j], env, bound=b)
             first[env, i, j] = ep.first_time
             dist[env, i, j] = ep.min_dist
             if not ep.finite:
                 status[env, i, j] = STATUS_NONFINITE
+            have[env, i, j] = True
             done += 1
             if progress is not None and done < total:
                 progress(done, total)
+            if partial is not None and time.monotonic() - saved >= partial_cells.CHECKPOINT_S:
+                partial_cells.save(partial, ident, cells)
+                saved = time.monotonic()
             return ep.success, ep.min_dist <= near
 
-        for env in range(4):
-            if options.adaptive_weights:
-                sim = refine(m, lambda i, j, env=env: simulate(env, i, j), options.stride)
-                status[env][~sim] = STATUS_INFERRED
-                done += int((~sim).sum())
-            else:
-                for i in range(m):
-                    for j in range(m):
-                        simulate(env, i, j)
+        try:
+            for env in range(4):
+                if options.adaptive_weights:
+                    sim = refine(m, lambda i, j, env=env: simulate(env, i, j), options.stride)
+                    status[env][~sim] = STATUS_INFERRED
+                    done += int((~sim).sum())
+                else:
+                    for i in range(m):
+                        for j in range(m):
+                            simulate(env, i, j)
+        except BaseException:  # Ctrl-C, SIGTERM turned into an exception, an error: keep what is done
+            if partial is not None and have.any():
+                partial_cells.save(partial, ident, cells)
+            raise
         if progress is not None:
             progress(total, total)
     return DesignResult(first_time=first, min_dist=dist, status=status)

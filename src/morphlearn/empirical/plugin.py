@@ -65,6 +65,9 @@ class Physics(Model):
     engine_label: ClassVar[str] = ""
     #: Fig. 1C draws this engine's body (read even when the model is off, if figures are drawn).
     figure_body: ClassVar[bool] = False
+    #: Its ``evaluate_design`` takes ``partial=`` (a design resumes inside itself, see
+    #: :mod:`morphlearn.empirical.partial`): the run's design cache then holds running designs too.
+    resumes_inside_design: ClassVar[bool] = False
     cli_options = ("morphology",)
 
     # -- settings ----------------------------------------------------------------------------------
@@ -243,17 +246,25 @@ class Physics(Model):
     def evaluate(self, s: Settings, designs: np.ndarray, done: Done | None = None) -> list[DesignResult]:
         from tqdm import tqdm
 
+        from morphlearn import design_cache
         from morphlearn.progress import EpisodeProgress
 
         e = self.settings(s)
         evaluate_design = self.design_evaluator()
         w = self.weights(s)
+        # the running design's episodes beside the finished designs (rules.run_shard's cache)
+        folder = None
+        if self.resumes_inside_design and s.design_cache and done:
+            folder = design_cache.cache_dir(s.results_dir, self.name, self.science(s))
         out = []
         for i, c in enumerate(tqdm(s.grid.designs.coords(designs), unit="design", mininterval=1.0)):
             log = EpisodeProgress(f"design {int(designs[i])} ({i + 1}/{len(designs)})")
-            out.append(evaluate_design((c[0], c[1]), (c[2], c[3]), w, e.params, progress=log, options=e.options))
+            kw = {"partial": design_cache.partial_path(folder, int(designs[i]))} if folder else {}
+            out.append(evaluate_design((c[0], c[1]), (c[2], c[3]), w, e.params, progress=log, options=e.options, **kw))
             if done:
-                done(i, out[-1])
+                done(i, out[-1])  # stores the design (design_cache.save) ...
+            if folder:
+                kw["partial"].unlink(missing_ok=True)  # ... so its partial file is no longer needed
         return out
 
     def resimulate(self, science: Mapping[str, Any], designs: np.ndarray) -> list[DesignResult]:
@@ -335,6 +346,7 @@ class Pybullet(Physics):
     engine = "pybullet"
     env_file = "envs/empirical.yaml"
     figure_body = True
+    resumes_inside_design = True
 
     @staticmethod
     def design_evaluator() -> Callable[..., DesignResult]:

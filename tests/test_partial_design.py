@@ -1,0 +1,152 @@
+"""A pybullet design resumes inside itself (morphlearn.empirical.partial): killed part-way, it
+keeps its finished episodes and the next run simulates only the others, to the same bytes."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from morphlearn import config as cfgmod
+from morphlearn import design_cache, models, settings
+from morphlearn.empirical import EmpiricalParams, EpisodeRunner, evaluate_design, load_params
+from morphlearn.empirical import partial as partial_cells
+from morphlearn.empirical.options import SweepOptions
+from morphlearn.results import STATUS_INFERRED, DesignResult
+
+ROOT = Path(__file__).resolve().parents[1]
+W = np.linspace(-1.0, 1.0, 5)
+DESIGN = ((0.5, 0.5), (0.5, -0.5))
+ADAPTIVE = SweepOptions(adaptive_weights=True)
+
+
+@pytest.fixture(scope="module")
+def params() -> EmpiricalParams:
+    return load_params(ROOT / "config" / "empirical_morphology.yaml").replace(steps=400)
+
+
+@pytest.fixture(scope="module")
+def reference(params: EmpiricalParams) -> DesignResult:
+    return evaluate_design(*DESIGN, W, params, options=ADAPTIVE)
+
+
+class Killed(BaseException):
+    """Stands for Ctrl-C or a SIGTERM turned into an exception."""
+
+
+def counting_runs(monkeypatch: pytest.MonkeyPatch, kill_at: int | None = None) -> list[int]:
+    """Count real episodes; raise Killed at episode ``kill_at`` (1-based) if given."""
+    calls: list[int] = []
+    run = EpisodeRunner.run
+
+    def counted(self, *a, **k):
+        calls.append(1)
+        if kill_at is not None and len(calls) == kill_at:
+            raise Killed
+        return run(self, *a, **k)
+
+    monkeypatch.setattr(EpisodeRunner, "run", counted)
+    return calls
+
+
+def assert_same(a: DesignResult, b: DesignResult) -> None:
+    for k in ("first_time", "min_dist", "status"):
+        np.testing.assert_array_equal(getattr(a, k), getattr(b, k), err_msg=k)
+
+
+def test_killed_design_resumes_to_the_same_bytes(
+    params: EmpiricalParams, reference: DesignResult, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    simulated = int((reference.status != STATUS_INFERRED).sum())
+    part = tmp_path / "design_7.partial.npz"
+    counting_runs(monkeypatch, kill_at=30)
+    with pytest.raises(Killed):
+        evaluate_design(*DESIGN, W, params, options=ADAPTIVE, partial=part)
+    ident = partial_cells.identity(*DESIGN, W, params, ADAPTIVE)
+    kept = partial_cells.load(part, ident, (4, 5, 5))
+    assert kept is not None and int(kept.simulated.sum()) == 29  # every finished episode, no more
+    monkeypatch.undo()
+    calls = counting_runs(monkeypatch)
+    resumed = evaluate_design(*DESIGN, W, params, options=ADAPTIVE, partial=part)
+    assert len(calls) == simulated - 29  # only the episodes not done before
+    assert_same(resumed, reference)
+    # a kill that no handler sees (SIGKILL, a lost node) loses only what followed the last
+    # periodic save (here after every episode)
+    monkeypatch.undo()
+    part.unlink()
+    monkeypatch.setattr(partial_cells, "CHECKPOINT_S", 0.0)
+    run, on_disk = EpisodeRunner.run, []
+
+    def killed_at_45(self, *a, **k):
+        if len(on_disk) == 44:
+            on_disk.append(int(partial_cells.load(part, ident, (4, 5, 5)).simulated.sum()))
+            raise Killed
+        on_disk.append(0)
+        return run(self, *a, **k)
+
+    monkeypatch.setattr(EpisodeRunner, "run", killed_at_45)
+    with pytest.raises(Killed):
+        evaluate_design(*DESIGN, W, params, options=ADAPTIVE, partial=part)
+    assert on_disk[-1] == 44
+    monkeypatch.undo()
+    assert_same(evaluate_design(*DESIGN, W, params, options=ADAPTIVE, partial=part), reference)
+
+
+def test_a_partial_file_of_something_else_is_not_resumed(
+    params: EmpiricalParams, reference: DesignResult, tmp_path: Path, monkeypatch: pytest.MonkeyPatch, capsys
+) -> None:
+    part = tmp_path / "p.npz"
+    counting_runs(monkeypatch, kill_at=20)
+    with pytest.raises(Killed):  # a partial file of the exhaustive grid (other levers)
+        evaluate_design(*DESIGN, W, params, partial=part)
+    monkeypatch.undo()
+    calls = counting_runs(monkeypatch)
+    assert_same(evaluate_design(*DESIGN, W, params, options=ADAPTIVE, partial=part), reference)
+    assert len(calls) == int((reference.status != STATUS_INFERRED).sum())  # nothing taken from it
+    assert "made for another design, weights, body or levers" in capsys.readouterr().out
+    # a flipped byte in a partial file of this very evaluation: not resumed either
+    ident = partial_cells.identity(*DESIGN, W, params, ADAPTIVE)
+    cells = partial_cells.Cells(reference.first_time, reference.min_dist, reference.status, reference.status >= 0)
+    partial_cells.save(part, ident, cells)
+    assert partial_cells.load(part, ident, (4, 5, 5)) is not None
+    data = bytearray(part.read_bytes())
+    at = data.index(np.ascontiguousarray(reference.min_dist).tobytes()[:16]) + 3
+    data[at] ^= 0x01
+    part.write_bytes(bytes(data))
+    assert partial_cells.load(part, ident, (4, 5, 5)) is None
+    assert "unreadable, not resumed (Bad CRC-32" in capsys.readouterr().out
+    # an edited outcome re-packed with valid CRCs and the old record: its digest gives it away
+    partial_cells.save(part, ident, cells)
+    with np.load(part) as z:
+        arrays = {k: z[k] for k in z.files}
+    arrays["first_time"] = np.where(np.isnan(arrays["first_time"]), 5.0, arrays["first_time"])
+    with part.open("wb") as fh:
+        np.savez(fh, **arrays)
+    assert partial_cells.load(part, ident, (4, 5, 5)) is None
+    assert "do not match their digest" in capsys.readouterr().out
+
+
+def test_workflow_keeps_the_running_design_in_the_design_cache(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """The shard's pybullet designs run with their partial file in the run's design cache, which is
+    removed once the design is stored (rules.run_shard's ``done`` saves it)."""
+    cfg = cfgmod.read(ROOT / "config.yaml", [ROOT / "config/smoke.yaml"])
+    cfg["results_dir"] = str(tmp_path / "results")
+    s = settings.parse(cfg)
+    model = models.get("empirical")
+    folder = design_cache.cache_dir(s.results_dir, "empirical", model.science(s))
+    seen: list[Path] = []
+
+    def fake(l1, l2, w, p, progress=None, options=None, partial=None) -> DesignResult:
+        seen.append(partial)
+        partial.parent.mkdir(parents=True, exist_ok=True)
+        partial.write_bytes(b"running")
+        shape = (4, len(w), len(w))
+        return DesignResult(np.full(shape, np.nan), np.full(shape, 1.0), np.zeros(shape, np.int8))
+
+    monkeypatch.setattr(type(model), "design_evaluator", staticmethod(lambda: fake))
+    stored: list[tuple[int, bool]] = []
+    model.evaluate(s, np.array([3, 5]), done=lambda i, r: stored.append((i, seen[-1].is_file())))
+    assert seen == [design_cache.partial_path(folder, 3), design_cache.partial_path(folder, 5)]
+    assert stored == [(0, True), (1, True)]  # each still there when its design is stored ...
+    assert not any(p.exists() for p in seen)  # ... and removed after
