@@ -74,15 +74,16 @@ def smoke_run(tmp_path_factory: pytest.TempPathFactory) -> Path:
     return wd
 
 
-#: The longest test groups, longest first (pytest --durations of a CI run on a fresh clone, 2-core
-#: VM, 2026-11-25: about 24, 11, 7, 6, 6, 4 and 3 minutes); every other group took under 2 minutes.
+#: The longest test groups, longest first (pytest --durations of a CI-equivalent run on a fresh
+#: clone, 2-core VM, 2026-11-25 23:25: about 11, 8, 4, 4, 2, 2 and 1.5 minutes); every other group
+#: took under a minute.
 LONGEST_GROUPS = (
     "smoke_run",
     "test_envs",
+    "test_survey",
+    "test_paper_bundle",
     "test_reliability",
     "test_design_cache",
-    "test_paper_bundle",
-    "test_survey",
     "test_scenarios",
 )
 
