@@ -68,9 +68,20 @@ def test_killed_design_resumes_to_the_same_bytes(
     assert kept is not None and int(kept.simulated.sum()) == 29  # every finished episode, no more
     monkeypatch.undo()
     calls = counting_runs(monkeypatch)
-    resumed = evaluate_design(*DESIGN, W, params, options=ADAPTIVE, partial=part)
+    lines: list[tuple[int, int]] = []
+    progress = lambda d, t: lines.append((d, t))  # noqa: E731
+    resumed = evaluate_design(*DESIGN, W, params, progress, options=ADAPTIVE, partial=part)
     assert len(calls) == simulated - 29  # only the episodes not done before
     assert_same(resumed, reference)
+    # its progress counts from its first new episode (so a time per episode is this run's): before
+    # it, the 29 episodes kept and the inferred cells of the environments they completed
+    before, kept = 29, 29
+    for env_status in reference.status:
+        n = int((env_status != STATUS_INFERRED).sum())
+        if kept < n:
+            break
+        kept, before = kept - n, before + env_status.size - n
+    assert lines[0] == (1, 100 - before) and lines[-1] == (100 - before, 100 - before), (before, lines[:2])
     # a kill that no handler sees (SIGKILL, a lost node) loses only what followed the last
     # periodic save (here after every episode)
     monkeypatch.undo()

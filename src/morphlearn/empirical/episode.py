@@ -209,7 +209,8 @@ def evaluate_design(
     design's result is stored.
 
     ``progress(done, total)`` is called after each episode if given (cells inferred by the
-    adaptive grid count as done when their environment ends). A non-finite state gives status
+    adaptive grid count as done when their environment ends; a resumed design counts from its
+    first new episode). A non-finite state gives status
     ``STATUS_NONFINITE`` (its first_time is NaN, min_dist up to where it stopped); a cell the
     adaptive grid did not simulate has status ``STATUS_INFERRED`` and NaN arrays.
     """
@@ -229,12 +230,13 @@ def evaluate_design(
         print(f"partial design {partial}: resumed, {int(cells.simulated.sum())} episodes done", flush=True)
     first, dist, status, have = cells.first_time, cells.min_dist, cells.status, cells.simulated
     total, done = 4 * m * m, 0
+    base = -1  # cells done before this run's first episode (a resumed design's): not in its progress
     saved = time.monotonic()
     with EpisodeRunner(params) as runner:
         near = options.near * runner.params.contact_distance
 
         def simulate(env: int, i: int, j: int) -> tuple[bool, bool]:
-            nonlocal done, saved
+            nonlocal done, saved, base
             if have[env, i, j]:  # resumed: the episode's stored outcome, exactly as it was run
                 done += 1
                 return not math.isnan(first[env, i, j]), bool(dist[env, i, j] <= near)
@@ -245,9 +247,10 @@ def evaluate_design(
             if not ep.finite:
                 status[env, i, j] = STATUS_NONFINITE
             have[env, i, j] = True
+            base = done if base < 0 else base
             done += 1
             if progress is not None and done < total:
-                progress(done, total)
+                progress(done - base, total - base)  # so its time per episode counts this run's only
             if partial is not None and time.monotonic() - saved >= partial_cells.CHECKPOINT_S:
                 partial_cells.save(partial, ident, cells)
                 saved = time.monotonic()
@@ -268,5 +271,5 @@ def evaluate_design(
                 partial_cells.save(partial, ident, cells)
             raise
         if progress is not None:
-            progress(total, total)
+            progress(total - max(base, 0), total - max(base, 0))
     return DesignResult(first_time=first, min_dist=dist, status=status)
