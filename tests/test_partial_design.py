@@ -3,6 +3,7 @@ keeps its finished episodes and the next run simulates only the others, to the s
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from pathlib import Path
 
 import numpy as np
@@ -35,14 +36,19 @@ class Killed(BaseException):
     """Stands for Ctrl-C or a SIGTERM turned into an exception."""
 
 
-def counting_runs(monkeypatch: pytest.MonkeyPatch, kill_at: int | None = None) -> list[int]:
-    """Count real episodes; raise Killed at episode ``kill_at`` (1-based) if given."""
+def counting_runs(
+    monkeypatch: pytest.MonkeyPatch, kill_at: int | None = None, at_kill: Callable[[], None] | None = None
+) -> list[int]:
+    """Count real episodes; raise Killed at episode ``kill_at`` (1-based) if given, after calling
+    ``at_kill`` (which sees what is on disk before any handler runs)."""
     calls: list[int] = []
     run = EpisodeRunner.run
 
     def counted(self, *a, **k):
         calls.append(1)
         if kill_at is not None and len(calls) == kill_at:
+            if at_kill is not None:
+                at_kill()
             raise Killed
         return run(self, *a, **k)
 
@@ -87,19 +93,12 @@ def test_killed_design_resumes_to_the_same_bytes(
     monkeypatch.undo()
     part.unlink()
     monkeypatch.setattr(partial_cells, "CHECKPOINT_S", 0.0)
-    run, on_disk = EpisodeRunner.run, []
-
-    def killed_at_45(self, *a, **k):
-        if len(on_disk) == 44:
-            on_disk.append(int(partial_cells.load(part, ident, (4, 5, 5)).simulated.sum()))
-            raise Killed
-        on_disk.append(0)
-        return run(self, *a, **k)
-
-    monkeypatch.setattr(EpisodeRunner, "run", killed_at_45)
+    on_disk: list[int] = []
+    saved = lambda: on_disk.append(int(partial_cells.load(part, ident, (4, 5, 5)).simulated.sum()))  # noqa: E731
+    counting_runs(monkeypatch, 45, saved)
     with pytest.raises(Killed):
         evaluate_design(*DESIGN, W, params, options=ADAPTIVE, partial=part)
-    assert on_disk[-1] == 44
+    assert on_disk == [44]
     monkeypatch.undo()
     assert_same(evaluate_design(*DESIGN, W, params, options=ADAPTIVE, partial=part), reference)
 
