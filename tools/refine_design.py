@@ -13,6 +13,10 @@
   bundle:    refine_design.py bundle results/refine/canonical_121 [more folders] --out results/refine-pybullet
              (complete folders of one engine -> a results bundle a run reads with
              empirical.results_from / mujoco.results_from on the 9-position grid)
+  seed:      refine_design.py seed results/refine/canonical_121 --configfile config/refine_pybullet.yaml
+             (a folder's episodes, complete or not, as its design's partial file in that config's
+             design cache: the workflow simulates only the rest of its path, e.g. the adaptive
+             grid's; morphlearn.empirical.seed)
 
 Levers: early stop (exact, docs/empirical_levers.md) on unless --no-early-stop; never the
 adaptive weight grid (this is the reference it is measured against). See
@@ -289,6 +293,29 @@ def cmd_adaptive(a: argparse.Namespace) -> int:
     return 0
 
 
+def cmd_seed(a: argparse.Namespace) -> int:
+    """The folder's episodes as the partial file of its design in a workflow config's design cache."""
+    from morphlearn import settings
+    from morphlearn.config import ConfigError
+    from morphlearn.empirical.seed import seed
+
+    try:
+        s = settings.load(a.base, a.configfile)
+    except ConfigError as e:
+        raise rz.RefineError(f"config {a.base} + {a.configfile}: {e}") from None
+    r = seed(a.folder, s)
+    if r.finished:
+        print(f"design {r.design} is already finished in the design cache; nothing written", file=sys.stderr)
+        return 0
+    print(
+        f"design {r.design}: {r.rows} complete rows in {a.folder}; {r.seeded} episodes seeded, {r.kept} already "
+        f"in the partial file, {r.near_threshold} left to simulate (float32 closest approach at the "
+        f"near threshold) -> {r.path}",
+        file=sys.stderr,
+    )
+    return 0
+
+
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     sub = ap.add_subparsers(dest="cmd", required=True)
@@ -322,6 +349,11 @@ def main(argv: list[str] | None = None) -> int:
     ad = sub.add_parser("adaptive", help="replay the adaptive weight grid on a complete folder: what it misses")
     ad.add_argument("folder", type=Path)
     ad.add_argument("--near", type=float, nargs="+", default=[4.0, 1.5], help="near thresholds (contact distances)")
+    sd = sub.add_parser("seed", help="a folder's episodes as its design's partial file in a workflow's design cache")
+    sd.add_argument("folder", type=Path)
+    sd.add_argument("--configfile", type=Path, nargs="+", required=True, help="the workflow run's config file(s)")
+    sd.add_argument("--base", type=Path, default=Path("config.yaml"), help="the base config (default: config.yaml)")
+    sd.set_defaults(fn=cmd_seed)
     e.set_defaults(fn=cmd_export)
     ad.set_defaults(fn=cmd_adaptive)
     a = ap.parse_args(argv)

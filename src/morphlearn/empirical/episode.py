@@ -261,6 +261,10 @@ def evaluate_design(
                 if options.adaptive_weights:
                     sim = refine(m, lambda i, j, env=env: simulate(env, i, j), options.stride)
                     status[env][~sim] = STATUS_INFERRED
+                    # a seeded partial file (morphlearn.empirical.seed) may hold cells this path
+                    # never asks for: they are inferred here, as in a run that had no file
+                    first[env][~sim] = np.nan
+                    dist[env][~sim] = np.nan
                     done += int((~sim).sum())
                 else:
                     for i in range(m):

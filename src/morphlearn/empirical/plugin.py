@@ -257,15 +257,29 @@ class Physics(Model):
         if self.resumes_inside_design and s.design_cache and done:
             folder = design_cache.cache_dir(s.results_dir, self.name, self.science(s))
         out = []
-        for i, c in enumerate(tqdm(s.grid.designs.coords(designs), unit="design", mininterval=1.0)):
-            log = EpisodeProgress(f"design {int(designs[i])} ({i + 1}/{len(designs)})")
-            kw = {"partial": design_cache.partial_path(folder, int(designs[i]))} if folder else {}
-            out.append(evaluate_design((c[0], c[1]), (c[2], c[3]), w, e.params, progress=log, options=e.options, **kw))
+        for i, d in enumerate(tqdm(designs, unit="design", mininterval=1.0)):
+            log = EpisodeProgress(f"design {int(d)} ({i + 1}/{len(designs)})")
+            kw = {"partial": design_cache.partial_path(folder, int(d))} if folder else {}
+            out.append(evaluate_design(*self.sensors(s, int(d)), w, e.params, progress=log, options=e.options, **kw))
             if done:
                 done(i, out[-1])  # stores the design (design_cache.save) ...
             if folder:
                 kw["partial"].unlink(missing_ok=True)  # ... so its partial file is no longer needed
         return out
+
+    @staticmethod
+    def sensors(s: Settings, design: int) -> tuple[tuple[float, float], tuple[float, float]]:
+        """The design's sensor points l1, l2 as :meth:`evaluate` passes them (grid floats: a
+        partial file's identity holds their reprs)."""
+        c = s.grid.designs.coords(np.array([int(design)]))[0]
+        return (c[0], c[1]), (c[2], c[3])
+
+    def partial_identity(self, s: Settings, design: int) -> str:
+        """The identity a partial file of ``design`` must name for :meth:`evaluate` to resume it."""
+        from morphlearn.empirical import partial
+
+        e = self.settings(s)
+        return partial.identity(*self.sensors(s, design), self.weights(s), e.params, e.options)
 
     def resimulate(self, science: Mapping[str, Any], designs: np.ndarray) -> list[DesignResult]:
         from morphlearn import grid as gridmod

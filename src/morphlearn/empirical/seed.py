@@ -1,0 +1,121 @@
+"""A workflow design's partial file seeded from an exhaustive ``tools/refine_design.py`` folder.
+
+A pybullet design at the paper's 121 x 121 weights is hours of one core. The exhaustive runner
+(:mod:`morphlearn.empirical.resumable`) and the workflow's evaluator make the same per-cell call
+(same runner, same reach bound, same floats; ``tests/test_refine_design.py``), so the episodes
+of an exhaustive folder, complete or not, are episodes the workflow would simulate. :func:`seed`
+writes them as the design's partial file (:mod:`morphlearn.empirical.partial`) in a config's
+design cache: the workflow run then "resumes" the design and simulates only the cells of its
+path (e.g. the adaptive grid's) that the folder lacks, to the bytes of a run that had no file
+(``evaluate_design`` infers the folder's cells its path does not visit, as it would have).
+
+Two things are not taken from a folder, and are simulated instead:
+- a cell whose closest approach, stored as float32 by the folder, lies within one float32 step of
+  the adaptive grid's "near" distance (the workflow compares the float64 value: the rounding could
+  change the path);
+- anything of a folder made for another body, weights, early stop or engine (refused, with which).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from morphlearn import design_cache
+from morphlearn.empirical import partial as partial_cells
+from morphlearn.empirical import resumable as rz
+from morphlearn.empirical.options import SweepOptions
+from morphlearn.empirical.params import EmpiricalParams
+from morphlearn.results import STATUS_OK
+from morphlearn.settings import Settings
+
+
+@dataclass(frozen=True)
+class Seeded:
+    """What :func:`seed` did, for its report."""
+
+    design: int
+    path: Path
+    rows: int  # complete w1 rows of the folder
+    seeded: int  # cells written to the partial file (new ones)
+    kept: int  # cells the partial file already held (not replaced)
+    near_threshold: int  # cells left out: float32 rounding could move them across "near"
+    finished: bool  # the design is already in the design cache: nothing written
+
+
+def seed(folder: str | Path, s: Settings, model: str = "empirical") -> Seeded:
+    """Write ``folder``'s episodes as the partial file of its design in ``s``'s design cache."""
+    from morphlearn import models
+
+    plugin = models.get(model)
+    if not getattr(plugin, "resumes_inside_design", False):
+        raise rz.RefineError(f"model {model!r} keeps no partial designs; allowed: the pybullet model (empirical)")
+    if not plugin.simulates(s):
+        raise rz.RefineError(f"this config does not simulate {model!r} ({model}.enabled, {model}.results_from)")
+    if not s.design_cache:
+        raise rz.RefineError("design_cache = false: the workflow would not read a partial file")
+    asm = rz.assemble(folder)
+    job = rz.job_from_manifest(asm.manifest)
+    e = plugin.settings(s)
+    w = plugin.weights(s)
+    _check_same_episodes(job, plugin.engine, e.params, e.options, w)
+    try:
+        d = s.grid.designs.index_of(job.l1, job.l2)
+    except ValueError as err:
+        raise rz.RefineError(f"{folder}: its design is not on this config's grid ({err})") from None
+    if d not in e.simulated:
+        raise rz.RefineError(
+            f"{folder}: design {d} (l1 = {job.l1}, l2 = {job.l2}) is not one this config simulates; "
+            f"allowed: {list(e.simulated)}"
+        )
+    cache = design_cache.cache_dir(s.results_dir, model, plugin.science(s))
+    path = design_cache.partial_path(cache, d)
+    rows = int(asm.rows_done.sum())
+    if design_cache.design_path(cache, d).is_file():
+        return Seeded(d, path, rows, 0, 0, 0, True)
+    m = len(w)
+    ident = plugin.partial_identity(s, d)
+    cells = partial_cells.load(path, ident, (4, m, m)) or partial_cells.Cells(
+        first_time=np.full((4, m, m), np.nan),
+        min_dist=np.full((4, m, m), np.nan),
+        status=np.full((4, m, m), STATUS_OK, dtype=np.int8),
+        simulated=np.zeros((4, m, m), bool),
+    )
+    r = asm.result
+    take = np.broadcast_to(asm.rows_done[None, :, None], (4, m, m)).copy()
+    near_risk = np.zeros_like(take)
+    if e.options.adaptive_weights:
+        near = np.float32(e.options.near * e.params.contact_distance)
+        # |d32 - near| within one float32 step of either: the float64 original may lie on the other side
+        step = np.spacing(np.maximum(np.abs(r.min_dist), np.abs(near)))
+        near_risk = take & (np.abs(r.min_dist - near) <= step)
+    kept = int(cells.simulated.sum())
+    take &= ~near_risk & ~cells.simulated  # what the file already holds was simulated by the workflow
+    cells.first_time[take] = r.first_time[take].astype(np.float64)
+    cells.min_dist[take] = r.min_dist[take].astype(np.float64)
+    cells.status[take] = r.status[take]
+    cells.simulated[take] = True
+    if take.any():
+        cache.mkdir(parents=True, exist_ok=True)
+        partial_cells.save(path, ident, cells)
+    return Seeded(d, path, rows, int(take.sum()), kept, int(near_risk.sum()), False)
+
+
+def _check_same_episodes(
+    job: rz.Job, engine: str, params: EmpiricalParams, options: SweepOptions, w: np.ndarray
+) -> None:
+    """The folder's episodes are the workflow's only for the same engine, body, weights and early stop."""
+    diffs = []
+    if job.engine != engine:
+        diffs.append(f"engine {job.engine!r} (the config's model runs {engine!r})")
+    if job.params != params:
+        keys = [k for k, v in job.params.to_dict().items() if params.to_dict().get(k) != v]
+        diffs.append(f"body parameters {keys} (the config's body file and params overrides)")
+    if not np.array_equal(job.weights, w):
+        diffs.append(f"weights {job.m} per synapse (the config's: {len(w)})")
+    if (job.options.early_stop, job.options.margin) != (options.early_stop, options.margin):
+        diffs.append(f"early_stop = {job.options.early_stop} (the config's: {options.early_stop})")
+    if diffs:
+        raise rz.RefineError("the folder's episodes are not this config's: another " + "; another ".join(diffs))

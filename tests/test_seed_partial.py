@@ -1,0 +1,143 @@
+"""An exhaustive refine folder seeds a workflow design's partial file (morphlearn.empirical.seed):
+the workflow's adaptive run then simulates only the cells of its path the folder lacks, to the
+bytes of a run that had no file."""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import pytest
+
+pytest.importorskip("pybullet")
+
+from morphlearn import config as cfgmod
+from morphlearn import design_cache, models, settings
+from morphlearn.empirical import EpisodeRunner, load_params
+from morphlearn.empirical import resumable as rz
+from morphlearn.empirical.options import SweepOptions
+from morphlearn.empirical.seed import seed
+from morphlearn.results import STATUS_INFERRED, DesignResult
+from morphlearn.settings import Settings
+
+ROOT = Path(__file__).resolve().parents[1]
+BODY = ROOT / "config" / "empirical_morphology.yaml"
+STEPS = 300  # contacts of w = (1, 1) at 9.05 s: successes in a test's time
+L1, L2 = (0.5, 0.5), (0.5, -0.5)
+
+
+def _settings(tmp: Path, **emp: Any) -> Settings:
+    cfg = cfgmod.read(ROOT / "config.yaml", [ROOT / "config/smoke.yaml"])
+    cfg["results_dir"] = str(tmp / "results")
+    cfg["empirical"].update(
+        {
+            "weights": 5,
+            "params": {"steps": STEPS},
+            "designs": [[list(L1), list(L2)]],
+            "include_mirrors": False,
+            "early_stop": True,
+            "adaptive_weights": True,
+            "adaptive_near": 4.0,
+            **emp,
+        }
+    )
+    return settings.parse(cfg)
+
+
+def _folder(tmp: Path, max_rows: int | None = None, **job: Any) -> Path:
+    kw: dict[str, Any] = {
+        "l1": L1,
+        "l2": L2,
+        "m": 5,
+        "params": load_params(BODY).replace(steps=STEPS),
+        "options": SweepOptions(early_stop=True),
+    }
+    out = tmp / "folder"
+    rz.run(out, rz.Job(**{**kw, **job}), body_file=BODY, log=lambda m: None, max_rows=max_rows)
+    return out
+
+
+def _evaluate(s: Settings, monkeypatch: pytest.MonkeyPatch) -> tuple[DesignResult, int]:
+    """The workflow's evaluation of the config's one design (as a shard job calls it), and how many
+    episodes it simulated."""
+    calls: list[int] = []
+    run = EpisodeRunner.run
+
+    def counted(self, *a, **k):  # type: ignore[no-untyped-def]
+        calls.append(1)
+        return run(self, *a, **k)
+
+    monkeypatch.setattr(EpisodeRunner, "run", counted)
+    model = models.get("empirical")
+    (r,) = model.evaluate(s, model.designs(s), done=lambda i, r: None)
+    monkeypatch.undo()
+    return r, len(calls)
+
+
+def _same(a: DesignResult, b: DesignResult) -> None:
+    for k in ("first_time", "min_dist", "status"):
+        assert getattr(a, k).dtype == getattr(b, k).dtype and getattr(a, k).tobytes() == getattr(b, k).tobytes(), k
+
+
+def test_seeded_design_simulates_only_what_the_folder_lacks(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    ref, simulated = _evaluate(_settings(tmp_path / "ref"), monkeypatch)  # no file: the plain run
+    assert 0 < simulated < 100 and (ref.status == STATUS_INFERRED).any()
+    # a complete folder: the seeded run simulates nothing and gives the plain run's bytes (the
+    # folder's cells off the adaptive path are inferred, as in the plain run)
+    s = _settings(tmp_path / "full")
+    got = seed(_folder(tmp_path / "full"), s)
+    assert (got.rows, got.seeded, got.kept, got.near_threshold, got.finished) == (5, 100, 0, 0, False)
+    r, n = _evaluate(s, monkeypatch)
+    assert n == 0
+    _same(r, ref)
+    assert not got.path.exists()  # the evaluation's caller (done) stores it; evaluate removed it
+    # two of five rows: it simulates the path's cells in the other three only
+    s = _settings(tmp_path / "part")
+    folder = _folder(tmp_path / "part", max_rows=2)
+    done_rows = rz.assemble(folder).rows_done
+    got = seed(folder, s)
+    assert (got.rows, got.seeded) == (2, 40)
+    r, n = _evaluate(s, monkeypatch)
+    on_path = ref.status != STATUS_INFERRED
+    assert n == int(on_path[:, ~done_rows].sum()) < simulated
+    _same(r, ref)
+
+
+def test_seed_keeps_the_workflows_own_episodes_and_skips_a_finished_design(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    from morphlearn.empirical import partial as partial_cells
+
+    s = _settings(tmp_path)
+    model = models.get("empirical")
+    d = int(model.designs(s)[0])
+    cache = design_cache.cache_dir(s.results_dir, "empirical", model.science(s))
+    path = design_cache.partial_path(cache, d)
+    ident = model.partial_identity(s, d)
+    mark = partial_cells.Cells(
+        np.full((4, 5, 5), np.nan), np.full((4, 5, 5), np.nan), np.zeros((4, 5, 5), np.int8), np.zeros((4, 5, 5), bool)
+    )
+    mark.simulated[0, 0, 0], mark.min_dist[0, 0, 0] = True, 123.0  # one episode the workflow ran
+    cache.mkdir(parents=True)
+    partial_cells.save(path, ident, mark)
+    got = seed(_folder(tmp_path), s)
+    assert (got.seeded, got.kept) == (99, 1)
+    assert partial_cells.load(path, ident, (4, 5, 5)).min_dist[0, 0, 0] == 123.0
+    design_cache.design_path(cache, d).write_bytes(b"stored")  # a finished design: left alone
+    path.unlink()
+    assert seed(tmp_path / "folder", s).finished and not path.exists()
+
+
+def test_seed_refuses_another_body_weights_levers_or_design(tmp_path: Path) -> None:
+    folder = _folder(tmp_path, max_rows=1)
+    with pytest.raises(rz.RefineError, match=r"another body parameters \['steps'\]"):
+        seed(folder, _settings(tmp_path, params={"steps": STEPS + 1}))
+    with pytest.raises(rz.RefineError, match=r"another weights 5 per synapse \(the config's: 3\)"):
+        seed(folder, _settings(tmp_path, weights=3))
+    with pytest.raises(rz.RefineError, match=r"another early_stop = True \(the config's: False\)"):
+        seed(folder, _settings(tmp_path, early_stop=False))
+    with pytest.raises(rz.RefineError, match=r"design 78 .* is not one this config simulates; allowed: \[6\]"):
+        seed(folder, _settings(tmp_path, designs=[[[-0.5, -0.5], [0.5, -0.5]]]))
+    with pytest.raises(rz.RefineError, match="model 'theory' keeps no partial designs"):
+        seed(folder, _settings(tmp_path), model="theory")
