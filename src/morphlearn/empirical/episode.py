@@ -31,7 +31,7 @@ from morphlearn.empirical.reach import CHECK_EVERY, ReachBound, sensor_reach
 from morphlearn.empirical.refine import refine
 from morphlearn.empirical.robot import LEFT_WHEEL, RIGHT_WHEEL, World, build_world, rebuild
 from morphlearn.grid import light_positions
-from morphlearn.results import STATUS_INFERRED, STATUS_NONFINITE, STATUS_OK, DesignResult
+from morphlearn.results import STATUS_INFERRED, STATUS_NONFINITE, DesignResult
 
 Point = tuple[float, float]
 
@@ -220,12 +220,7 @@ def evaluate_design(
     ident = partial_cells.identity(l1, l2, w, params, options) if partial is not None else ""
     cells = partial_cells.load(partial, ident, (4, m, m)) if partial is not None else None
     if cells is None:
-        cells = partial_cells.Cells(
-            first_time=np.full((4, m, m), np.nan),
-            min_dist=np.full((4, m, m), np.nan),
-            status=np.full((4, m, m), STATUS_OK, dtype=np.int8),
-            simulated=np.zeros((4, m, m), bool),
-        )
+        cells = partial_cells.Cells.empty(m)
     else:
         print(f"partial design {partial}: resumed, {int(cells.simulated.sum())} episodes done", flush=True)
     first, dist, status, have = cells.first_time, cells.min_dist, cells.status, cells.simulated

@@ -23,6 +23,7 @@ from typing import Any
 import numpy as np
 
 from morphlearn import store
+from morphlearn.results import STATUS_OK
 
 #: Seconds between saves of a running design: a killed job loses at most this much of it.
 CHECKPOINT_S = 60.0
@@ -37,6 +38,16 @@ class Cells:
     min_dist: np.ndarray
     status: np.ndarray
     simulated: np.ndarray
+
+    @classmethod
+    def empty(cls, m: int) -> Cells:
+        """No episode done yet, on an m x m weight grid (arrays as ``evaluate_design`` fills them)."""
+        return cls(
+            first_time=np.full((4, m, m), np.nan),
+            min_dist=np.full((4, m, m), np.nan),
+            status=np.full((4, m, m), STATUS_OK, dtype=np.int8),
+            simulated=np.zeros((4, m, m), bool),
+        )
 
 
 def identity(l1: Any, l2: Any, weights: np.ndarray, params: Any, options: Any) -> str:

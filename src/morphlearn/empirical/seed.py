@@ -28,7 +28,6 @@ from morphlearn.empirical import partial as partial_cells
 from morphlearn.empirical import resumable as rz
 from morphlearn.empirical.options import SweepOptions
 from morphlearn.empirical.params import EmpiricalParams
-from morphlearn.results import STATUS_OK
 from morphlearn.settings import Settings
 
 
@@ -77,12 +76,7 @@ def seed(folder: str | Path, s: Settings, model: str = "empirical") -> Seeded:
         return Seeded(d, path, rows, 0, 0, 0, True)
     m = len(w)
     ident = plugin.partial_identity(s, d)
-    cells = partial_cells.load(path, ident, (4, m, m)) or partial_cells.Cells(
-        first_time=np.full((4, m, m), np.nan),
-        min_dist=np.full((4, m, m), np.nan),
-        status=np.full((4, m, m), STATUS_OK, dtype=np.int8),
-        simulated=np.zeros((4, m, m), bool),
-    )
+    cells = partial_cells.load(path, ident, (4, m, m)) or partial_cells.Cells.empty(m)
     r = asm.result
     take = np.broadcast_to(asm.rows_done[None, :, None], (4, m, m)).copy()
     near_risk = np.zeros_like(take)
