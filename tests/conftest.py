@@ -7,6 +7,7 @@ import re
 import shutil
 import subprocess
 import sys
+from collections.abc import Callable
 from pathlib import Path
 
 import pytest
@@ -89,6 +90,32 @@ LONGEST_GROUPS = (
 
 
 @pytest.hookimpl(tryfirst=True)  # before xdist reads the marks into its node ids
+class Killed(BaseException):
+    """Stands for Ctrl-C or a SIGTERM turned into an exception."""
+
+
+def counting_runs(
+    monkeypatch: pytest.MonkeyPatch, kill_at: int | None = None, at_kill: Callable[[], None] | None = None
+) -> list[int]:
+    """Count real pybullet episodes (EpisodeRunner.run); raise Killed at episode ``kill_at``
+    (1-based) if given, after calling ``at_kill`` (which sees what is on disk before any handler runs)."""
+    from morphlearn.empirical import EpisodeRunner
+
+    calls: list[int] = []
+    run = EpisodeRunner.run
+
+    def counted(self, *a, **k):
+        calls.append(1)
+        if kill_at is not None and len(calls) == kill_at:
+            if at_kill is not None:
+                at_kill()
+            raise Killed
+        return run(self, *a, **k)
+
+    monkeypatch.setattr(EpisodeRunner, "run", counted)
+    return calls
+
+
 def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item]) -> None:
     """Under pytest-xdist (``-n N --dist loadgroup``, tools/test.sh) a worker takes whole groups: a
     group is one test file (its module-scoped toy runs made once), and the files that read the

@@ -3,15 +3,15 @@ keeps its finished episodes and the next run simulates only the others, to the s
 
 from __future__ import annotations
 
-from collections.abc import Callable
 from pathlib import Path
 
 import numpy as np
 import pytest
+from conftest import Killed, counting_runs
 
 from morphlearn import config as cfgmod
 from morphlearn import design_cache, models, settings
-from morphlearn.empirical import EmpiricalParams, EpisodeRunner, evaluate_design, load_params
+from morphlearn.empirical import EmpiricalParams, evaluate_design, load_params
 from morphlearn.empirical import partial as partial_cells
 from morphlearn.empirical.options import SweepOptions
 from morphlearn.results import STATUS_INFERRED, DesignResult
@@ -30,30 +30,6 @@ def params() -> EmpiricalParams:
 @pytest.fixture(scope="module")
 def reference(params: EmpiricalParams) -> DesignResult:
     return evaluate_design(*DESIGN, W, params, options=ADAPTIVE)
-
-
-class Killed(BaseException):
-    """Stands for Ctrl-C or a SIGTERM turned into an exception."""
-
-
-def counting_runs(
-    monkeypatch: pytest.MonkeyPatch, kill_at: int | None = None, at_kill: Callable[[], None] | None = None
-) -> list[int]:
-    """Count real episodes; raise Killed at episode ``kill_at`` (1-based) if given, after calling
-    ``at_kill`` (which sees what is on disk before any handler runs)."""
-    calls: list[int] = []
-    run = EpisodeRunner.run
-
-    def counted(self, *a, **k):
-        calls.append(1)
-        if kill_at is not None and len(calls) == kill_at:
-            if at_kill is not None:
-                at_kill()
-            raise Killed
-        return run(self, *a, **k)
-
-    monkeypatch.setattr(EpisodeRunner, "run", counted)
-    return calls
 
 
 def assert_same(a: DesignResult, b: DesignResult) -> None:

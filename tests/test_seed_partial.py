@@ -9,12 +9,13 @@ from typing import Any
 
 import numpy as np
 import pytest
+from conftest import counting_runs
 
 pytest.importorskip("pybullet")
 
 from morphlearn import config as cfgmod
 from morphlearn import design_cache, models, settings
-from morphlearn.empirical import EpisodeRunner, load_params
+from morphlearn.empirical import load_params
 from morphlearn.empirical import resumable as rz
 from morphlearn.empirical.options import SweepOptions
 from morphlearn.empirical.seed import seed
@@ -61,14 +62,7 @@ def _folder(tmp: Path, max_rows: int | None = None, **job: Any) -> Path:
 def _evaluate(s: Settings, monkeypatch: pytest.MonkeyPatch) -> tuple[DesignResult, int]:
     """The workflow's evaluation of the config's one design (as a shard job calls it), and how many
     episodes it simulated."""
-    calls: list[int] = []
-    run = EpisodeRunner.run
-
-    def counted(self, *a, **k):  # type: ignore[no-untyped-def]
-        calls.append(1)
-        return run(self, *a, **k)
-
-    monkeypatch.setattr(EpisodeRunner, "run", counted)
+    calls = counting_runs(monkeypatch)
     model = models.get("empirical")
     (r,) = model.evaluate(s, model.designs(s), done=lambda i, r: None)
     monkeypatch.undo()
