@@ -138,6 +138,54 @@ def test_resolution_note_names_the_subset() -> None:
     )
 
 
+def physics_results(model: str, rows: dict[int, tuple[float, float]], m: int = 121, n: int = 5) -> data.ModelResults:
+    """A physics model's results holding ``rows`` (design -> (M_L, M_CF)) on an ``n``-position grid
+    and ``m`` weights: only what captions read (its table, its weights, its record)."""
+    import xarray as xr
+
+    c = np.array([grid.DesignGrid(n).coords(d) for d in rows]).reshape(len(rows), 4)
+    table = pd.DataFrame({"design": list(rows), "l1x": c[:, 0], "l1y": c[:, 1], "l2x": c[:, 2], "l2y": c[:, 3]})
+    table["M_L"], table["M_CF"] = ([v[k] for v in rows.values()] for k in (0, 1))
+    ds = xr.Dataset(coords={"w1": np.linspace(-1, 1, m)}, attrs={"science_json": json.dumps({"positions_per_axis": n})})
+    return data.ModelResults(model, table, ds, None)
+
+
+def test_subset_best_says_which_designs_another_engine_ranks_best_and_whether_they_are_held() -> None:
+    g = grid.DesignGrid(5)
+    canon, a, b = g.index_of(*grid.canonical_design()), 100, 200
+    pb = physics_results("empirical", {canon: (0.002, 0.02), a: (0.07, 0.35)})
+    text, cited = caption.subset_best(pb, [None])
+    assert text == (
+        "The pybullet, 121 x 121 weights results hold 2 of the grid's 625 designs; "
+        "their best are the best of those, not of all designs."
+    )
+    assert cited == []
+    # MuJoCo holds more designs on the same weights: its best by both is a, which pybullet holds
+    mj = physics_results("mujoco", {canon: (0.002, 0.02), a: (0.07, 0.35), b: (0.03, 0.2), 300: (0.0, 0.0)})
+    text, cited = caption.subset_best(pb, [mj])
+    assert cited == [mj]
+    la = data.design_label(*g.coords(a).reshape(2, 2))
+    assert text.endswith(
+        f" MuJoCo, 121 x 121 weights, over the 4 designs its results hold, ranks {la} best by both M_L and M_CF; "
+        "pybullet holds it."
+    )
+    # best by M_CF another design (b), held by pybullet only as its mirror image; by M_L a design it lacks
+    mj = physics_results("mujoco", {canon: (0.0, 0.0), 400: (0.09, 0.1), b: (0.03, 0.5)})
+    pb = physics_results("empirical", {canon: (0.0, 0.0), int(g.mirror(b)): (0.03, 0.5)})
+    text, _ = caption.subset_best(pb, [mj])
+    assert "best by M_L and" in text and text.endswith("; pybullet holds 1 of the two (or their mirror images).")
+    lacking = physics_results("mujoco", {400: (0.09, 0.1), 401: (0.0, 0.5), 402: (0.0, 0.0)})
+    assert caption.subset_best(pb, [lacking])[0].endswith("; pybullet holds 0 of the two (or their mirror images).")
+    one = physics_results("mujoco", {400: (0.09, 0.5), 401: (0.0, 0.0), 402: (0.0, 0.0)})
+    assert caption.subset_best(pb, [one])[0].endswith(" best by both M_L and M_CF; pybullet does not hold it.")
+    # not cited: fewer designs, another weight grid (counts are not comparable), another design grid
+    assert caption.subset_best(pb, [physics_results("mujoco", {1: (0.1, 0.1), 2: (0, 0), 3: (0, 0)}, n=9)])[1] == []
+    assert caption.subset_best(pb, [physics_results("mujoco", {1: (0.1, 0.1)})])[1] == []
+    assert caption.subset_best(pb, [physics_results("mujoco", {1: (0.1, 0.1), 2: (0, 0), 3: (0, 0)}, m=11)])[1] == []
+    # every design of the grid: nothing to say
+    assert caption.subset_best(physics_results("mujoco", {d: (0.0, 0.0) for d in range(g.size)}), [mj]) == ("", [])
+
+
 # ---------------------------------------------------------------------------------------------- drawing
 
 

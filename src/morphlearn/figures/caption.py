@@ -84,3 +84,45 @@ def design_text(row: pd.Series) -> str:
 def metric_line(row: pd.Series, n_controllers: int, sep: str = ", ") -> str:
     """``M_L = ... (k of n controllers), M_CF = ...`` of a metrics-table row."""
     return f"M_L = {row.M_L:.4g} ({int(row.generalists)} of {n_controllers} controllers){sep}M_CF = {row.M_CF:.4g}"
+
+
+def subset_best(res: ModelResults, others: Sequence[ModelResults | None] = ()) -> tuple[str, list[ModelResults]]:
+    """Caption text for a physics model's "best" design when its results hold only some of the
+    grid's designs (e.g. the few refined at 121 x 121 weights in pybullet, issue 26): the best of
+    those, not of all; and, for each results in ``others`` on the same weight grid that hold more
+    designs (MuJoCo's refined candidates), which designs they rank best and whether ``res`` holds
+    them (or their mirror images), so the choice of designs is checked, not assumed. Returns the
+    text ("" when ``res`` holds every design) and the results of ``others`` it cites (for the
+    caption's data paragraph)."""
+    from morphlearn import grid as gridmod
+    from morphlearn.figures.data import dataset_label, engine_label
+
+    g = gridmod.DesignGrid(res.positions_per_axis or 0)
+    if res.n_designs == g.size:
+        return "", []
+    used = []
+    held = set(int(d) for d in res.table.design)
+    text = (
+        f"The {dataset_label(res)} results hold {res.n_designs} of the grid's {g.size} designs; "
+        "their best are the best of those, not of all designs."
+    )
+    for o in others:
+        if o is None or o.n_designs <= res.n_designs or o.positions_per_axis != res.positions_per_axis:
+            continue
+        if len(o.weights) != len(res.weights):  # counts over another weight grid do not compare
+            continue
+        used.append(o)
+        best_l, best_cf = o.best("M_L"), o.best("M_CF")
+        picks = sorted({int(best_l.design), int(best_cf.design)})
+        found = ["itself" if d in held else "mirror" if int(g.mirror(d)) in held else "" for d in picks]
+        if len(picks) == 1:
+            ranks = f"ranks {design_text(best_l)} best by both M_L and M_CF"
+            has = {"itself": "holds it", "mirror": "holds its mirror image", "": "does not hold it"}[found[0]]
+        else:  # a design's mirror image counts as the design here (MuJoCo flips none; pybullet few)
+            ranks = f"ranks {design_text(best_l)} best by M_L and {design_text(best_cf)} best by M_CF"
+            has = f"holds {sum(map(bool, found))} of the two (or their mirror images)"
+        text += (
+            f" {dataset_label(o)}, over the {o.n_designs} designs its results hold, {ranks}; "
+            f"{engine_label(res.model)} {has}."
+        )
+    return text, used

@@ -47,10 +47,10 @@ class Figure:
 FIGURES: dict[str, Figure] = {
     "fig1": Figure(reads=(), options=("morphology",)),
     "fig2": Figure(options=("fig2_design", "fig2_envs")),
-    "fig3": Figure(reads=("theory", "empirical")),
+    "fig3": Figure(reads=("theory", "empirical", "mujoco")),
     "fig4": Figure(options=("trajectory_settings", "near_distance")),
     "fig5": Figure(options=("trajectory_settings", "near_distance")),
-    "fig6": Figure(reads=("theory", "empirical")),
+    "fig6": Figure(reads=("theory", "empirical", "mujoco")),
     "fig7": Figure(reads=("theory", "empirical"), survey=True),
     # beyond the paper: real learners against M_L and M_CF (issue 15; config/learners.yaml)
     "learners": Figure(needs="learners", files=("learners/runs.csv", "learners/correlations.csv")),

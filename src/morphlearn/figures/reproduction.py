@@ -20,7 +20,7 @@ import pandas as pd
 from morphlearn import grid as gridmod
 from morphlearn import provenance, store
 from morphlearn.figures import data as fd
-from morphlearn.figures.caption import PAPER_WEIGHTS, resolution_note, science_summary
+from morphlearn.figures.caption import PAPER_WEIGHTS, resolution_note, science_summary, subset_best
 
 NOT_RUN = "not in this run"
 
@@ -379,7 +379,9 @@ def theory_rows(res: fd.ModelResults, pers: pd.DataFrame | None, near: float) ->
     return out
 
 
-def empirical_rows(res: fd.ModelResults) -> dict[str, tuple[str, str]]:
+def empirical_rows(res: fd.ModelResults, others: Sequence[fd.ModelResults] = ()) -> dict[str, tuple[str, str]]:
+    """The paper's empirical rows from a physics model's results; where they hold only some designs,
+    the best-design rows say so and which designs ``others`` (more designs, same weights) rank best."""
     m2 = res.n_controllers
     out: dict[str, tuple[str, str]] = {}
     scale = "" if m2 == 121**2 else f"over a {len(res.weights)}^2 grid, not 121^2: compare fractions"
@@ -390,11 +392,7 @@ def empirical_rows(res: fd.ModelResults) -> dict[str, tuple[str, str]]:
         out["empirical_canonical_w11"] = (f"{k} of 4", "committed morphology (optimise_morphology)")
         out["empirical_canonical_M_L"] = (f"{canon.M_L:.4g} ({_frac(int(canon.generalists), m2)})", scale)
         out["empirical_canonical_M_CF"] = (f"{canon.M_CF:.4g}", "")
-    subset = (
-        ""
-        if res.n_designs == gridmod.DesignGrid(res.positions_per_axis or 0).size
-        else (f"best of the {res.n_designs} designs simulated in this run")
-    )
+    subset, _ = subset_best(res, others)
     top, top_cf = res.best("M_L"), res.best("M_CF")
     out["empirical_best_design"] = (fd.design_label(*fd.row_design(top)), subset)
     out["empirical_best_M_L"] = (f"{top.M_L:.4g} ({_frac(int(top.generalists), m2)})", scale)
@@ -490,7 +488,7 @@ def reproduction_table(
     if theory is not None:
         ours |= theory_rows(theory, persistence, near)
     if empirical is not None:
-        ours |= empirical_rows(empirical)
+        ours |= empirical_rows(empirical, list((engines or {}).values()))
     rows = []
     for key, quantity, paper in QUANTITIES:
         res = {"theory": theory, "empirical": empirical}[key.split("_", 1)[0]]  # a key names its model
