@@ -42,6 +42,24 @@ def copy_workflow(dest: Path) -> Path:
     return dest
 
 
+def paper_sources() -> list[str]:
+    """The committed bundles config/paper.yaml reads besides results/paper itself (its physics at
+    121 x 121 and the 6561-design survey): a clone holds them, so a copy that parses that config
+    needs them too."""
+    import yaml
+
+    cfg = yaml.safe_load((ROOT / "config/paper.yaml").read_text())
+    found = [(cfg.get(m) or {}).get("results_from") for m in ("theory", "empirical", "mujoco")]
+    found.append((cfg.get("survey_from") or {}).get("bundle"))
+    return sorted({p for p in found if p and p != "results/paper"})
+
+
+def copy_paper_sources(dest: Path) -> None:
+    """Copy :func:`paper_sources` into the workflow copy ``dest``."""
+    for rel in paper_sources():
+        shutil.copytree(ROOT / rel, dest / rel, dirs_exist_ok=True)
+
+
 def written_results(workdir: Path) -> list[Path]:
     """What a run wrote under ``results/`` (the committed bundles a clone holds excluded)."""
     root = workdir / "results"

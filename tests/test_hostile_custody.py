@@ -20,7 +20,7 @@ from pathlib import Path
 
 import pandas as pd
 import pytest
-from conftest import ROOT, snakemake
+from conftest import ROOT, copy_paper_sources, snakemake
 
 from morphlearn import bundle, bundle_check, cli, metrics, provenance, resimulate, rules, store
 from morphlearn import config as config_mod
@@ -356,6 +356,7 @@ def test_bundle_dir_refuses_what_it_did_not_make(
 
 def test_config_slip_cannot_overwrite_the_paper_bundle(run: Path) -> None:
     """``--configfile config/paper.yaml config/smoke.yaml`` names bundle_dir results/paper."""
+    copy_paper_sources(run)  # so the slip reaches the custody check (a clone holds them)
     _committed_paper(run)
     before = _snapshot(run / "results/paper")
     proc = snakemake(

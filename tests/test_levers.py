@@ -164,8 +164,9 @@ def test_options_enter_the_science_record_only_when_on() -> None:
     assert on["adaptive_weights"] == {"stride": 2, "near": 4.0}
     survey = cfgmod.read(ROOT / "config.yaml", [ROOT / "config/survey.yaml"])
     assert science(survey)["adaptive_weights"]["near"] == 1.5  # its bundle's record
-    paper = cfgmod.read(ROOT / "config.yaml", [ROOT / "config/paper.yaml"])
-    assert "early_stop" not in science(paper)  # the committed bundle's record
+    refine = cfgmod.read(ROOT / "config.yaml", [ROOT / "config/refine_pybullet.yaml"])
+    assert science(refine)["adaptive_weights"]["near"] == 4.0  # the 121 x 121 bundle's record
+    assert science(refine)["early_stop"] == {"margin": 2.0, "check_every": 10}
 
 
 # --- theory against physics ------------------------------------------------------------------

@@ -10,7 +10,7 @@ import shutil
 from pathlib import Path
 
 import pandas as pd
-from conftest import ROOT, copy_workflow, job_stats, snakemake
+from conftest import ROOT, copy_paper_sources, copy_workflow, job_stats, snakemake
 
 from morphlearn import bundle, bundle_check, resimulate
 
@@ -66,12 +66,16 @@ def test_committed_designs_resimulate_exactly() -> None:
 
 def test_readme_command_renders_committed_bundle(tmp_path: Path) -> None:
     wd = copy_workflow(tmp_path / "clone")
+    copy_paper_sources(wd)  # a clone holds the bundles config/paper.yaml reads
     out = wd / "results" / "paper"
     shutil.copytree(_committed(), out)
     proc = snakemake(wd, *readme_render_command(), timeout=900)
     jobs = job_stats(proc.stdout + proc.stderr)
-    # nothing simulated, merged or recomputed: only the figures and the table
-    assert set(jobs) == {*(f"figure_fig{i}" for i in range(1, 8)), "reproduction", "all"}, jobs
+    # nothing simulated, merged or recomputed: only the figures (the paper's seven and the
+    # survey's) and the table
+    figures = {f"figure_{p.name.removesuffix('.caption.md')}" for p in (out / "figures").glob("*.caption.md")}
+    assert {f"figure_fig{i}" for i in range(1, 8)} <= figures
+    assert set(jobs) == {*figures, "reproduction", "all"}, jobs
     for i in range(1, 8):
         assert (out / f"figures/fig{i}.html").stat().st_size > 1000
     assert not (out / "theory" / "shards").exists() and not (out / "theory" / "designs").exists()
