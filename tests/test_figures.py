@@ -5,6 +5,7 @@ from __future__ import annotations
 import json
 import tempfile
 from pathlib import Path
+from types import SimpleNamespace
 
 import matplotlib.pyplot as plt
 import numpy as np
@@ -136,6 +137,10 @@ def test_resolution_note_names_the_subset() -> None:
     assert caption.resolution_note(res) == (
         "reduced resolution (3 positions per axis, 3 weights, 2 of 81 designs; the paper used 9 and 121, all designs)"
     )
+    # the paper's grids on a few designs (refined candidates): the resolution is the paper's
+    few = SimpleNamespace(positions_per_axis=9, weights=np.zeros(121), n_designs=41)
+    assert caption.resolution_note(few) == "paper resolution on 41 of 6561 designs (the paper: all)"
+    assert caption.resolution_note(SimpleNamespace(**{**vars(few), "n_designs": 6561})) == "paper resolution"
 
 
 def physics_results(model: str, rows: dict[int, tuple[float, float]], m: int = 121, n: int = 5) -> data.ModelResults:

@@ -42,8 +42,9 @@ def resolution_note(res: ModelResults) -> str:
     n = res.positions_per_axis
     m = len(res.weights)
     full_designs = res.n_designs == (n or 0) ** 4
-    if n == PAPER_POSITIONS and m == PAPER_WEIGHTS and full_designs:
-        return "paper resolution"
+    if n == PAPER_POSITIONS and m == PAPER_WEIGHTS:
+        # the grids are the paper's; only the design set may be smaller (refined candidates)
+        return "paper resolution" + ("" if full_designs else f" on {res.n_designs} of {n**4} designs (the paper: all)")
     subset = "" if full_designs else f", {res.n_designs} of {(n or 0) ** 4} designs"
     return (
         f"reduced resolution ({n} positions per axis, {m} weights{subset}; the paper used "

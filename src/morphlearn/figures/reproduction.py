@@ -446,7 +446,7 @@ def refined_rows(
         mirror = theory.table[theory.table.design == gridmod.DesignGrid(n_pos).mirror(int(top.design))]
         held = [r for d in (design, fd.row_design(mirror.iloc[0])) if (r := res.row(*d)) is not None]
         if not held:
-            ours = f"{fd.design_label(*design)} and its mirror image: not simulated in this run"
+            ours = f"{fd.design_label(*design)} and its mirror image: not among the {n} designs these results hold"
         else:
             r = held[0]
             which = "" if fd.row_design(r) == design else " (its mirror image)"
