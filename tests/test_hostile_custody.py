@@ -289,6 +289,24 @@ def test_render_only_refuses_a_damaged_bundle(run: Path, attack: Callable[[Path]
     assert _snapshot(b) == before  # no figure, log or benchmark written
 
 
+def test_render_only_reads_the_stored_persistence_table_only_when_its_record_vouches_for_it(
+    run: Path, tmp_path: Path
+) -> None:
+    """render_only reads persistence.csv instead of integrating it again: an edited table, or one
+    without its sealed record, is refused by name."""
+    for name in ("persistence.csv", "reproduction.provenance.json"):
+        shutil.copy2(run / "results" / name, tmp_path / name)
+    table = tmp_path / "persistence.csv"
+    rules.check_stored_persistence(table)  # intact: read as it is
+    lines = table.read_text().splitlines(keepends=True)
+    table.write_text("".join(lines[:-1]))  # one controller's row dropped
+    with pytest.raises(ValueError, match=r"persistence.csv: SHA-256 .* differs from the .* that reproduction"):
+        rules.check_stored_persistence(table)
+    (tmp_path / "reproduction.provenance.json").unlink()
+    with pytest.raises(ValueError, match="reproduction.provenance.json: unreadable"):
+        rules.check_stored_persistence(table)
+
+
 # -- 2. bundle_dir writes only where it may ----------------------------------------------------
 
 
@@ -355,14 +373,22 @@ def test_bundle_dir_refuses_what_it_did_not_make(
 
 
 def test_config_slip_cannot_overwrite_the_paper_bundle(run: Path) -> None:
-    """``--configfile config/paper.yaml config/smoke.yaml`` names bundle_dir results/paper."""
-    copy_paper_sources(run)  # so the slip reaches the custody check (a clone holds them)
-    _committed_paper(run)
+    """``--configfile config/paper.yaml config/smoke.yaml`` names bundle_dir results/paper. Since
+    config/paper.yaml reads its theory from results/paper, the first guard the slip meets is that
+    read's (the smoke grid is not the bundle's); the bundle_dir guard behind it:
+    test_bundle_dir_refuses_what_it_did_not_make."""
+    # the paper bundle and the bundles config/paper.yaml reads, as a clone holds them
+    copy_paper_sources(run)
+    shutil.copytree(PAPER, run / "results/paper", dirs_exist_ok=True)
     before = _snapshot(run / "results/paper")
     proc = snakemake(
         run, "bundle", "-n", "--cores", "1", "--configfile", "config/paper.yaml", "config/smoke.yaml", check=False
     )
-    assert proc.returncode == 2 and "bundle_dir = 'results/paper' holds a bundle made by configs" in proc.stderr
+    assert proc.returncode == 2, proc.stderr[-2000:]
+    assert (
+        "theory.results_from = 'results/paper' holds theory results made with grid.positions_per_axis = 9, "
+        "this config has 3" in proc.stderr
+    ), proc.stderr[-2000:]
     assert _snapshot(run / "results/paper") == before
 
 

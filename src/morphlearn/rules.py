@@ -117,6 +117,23 @@ def check_render_inputs(paths: list[str]) -> None:
             provenance.check_derived(p, store.open_merged(Path(p).with_name("merged.zarr")))
 
 
+def check_stored_persistence(path: str | Path) -> None:
+    """render_only reads a stored persistence table instead of integrating its trajectories
+    again: it must be the one the reproduction record beside it sealed (CustodyError naming it)."""
+    from morphlearn.figures.reproduction import RECORD
+
+    p = Path(path)
+    rec = provenance.read_record(p.with_name(RECORD))
+    outputs = rec.get(provenance.OUTPUTS) if provenance.SEAL in rec else None
+    want = outputs.get(p.name) if isinstance(outputs, dict) else None
+    got = provenance.sha256_file(p)
+    if want != got:
+        raise provenance.CustodyError(
+            f"{p}: SHA-256 {got[:12]} differs from the {(want or 'none')[:12]} that {RECORD} records "
+            "(changed or damaged); nothing was rendered"
+        )
+
+
 def check_custody(tables: list[str | Path], derived: list[str | Path] = ()) -> None:
     """At the start of a run: every metrics table already there is the one its rule wrote
     (provenance.CustodyError naming the first edited or damaged one), so no edit flows into the

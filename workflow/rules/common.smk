@@ -108,6 +108,9 @@ SURVEY_FILES = (
 )
 # Figures need the theory results; render_only re-renders them from stored results alone.
 RENDER_ONLY = S.render_only
+# render_only reads the stored persistence table (its trajectories are a simulation: ~60 CPU-s
+# at paper resolution) instead of integrating them again; a folder without one makes it.
+STORED_PERSISTENCE = RENDER_ONLY and Path(f"{R}/persistence.csv").is_file()
 FIGURES = figure_options.figures(S)
 # Once per start: both a figure's inputs and its params use them.
 FIGURE_OPTIONS = {fig: figure_options.figure_options(S, fig) for fig in FIGURES}
@@ -148,6 +151,8 @@ if RENDER_ONLY and FIGURES:
             [f"{R}/{m}/{n}" for m in MODELS for n in ("metrics.csv", "merged.zarr")]
             + SURVEY_FILES
         )
+        if STORED_PERSISTENCE:
+            rules.check_stored_persistence(f"{R}/persistence.csv")
     except ValueError as err:
         print(f"morphlearn: render_only: {err}", file=sys.stderr)
         sys.exit(2)

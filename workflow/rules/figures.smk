@@ -72,7 +72,15 @@ rule reproduction:
         ),
         # the physics survey read from its bundle (survey_from), when set
         survey=SURVEY_FILES,
+        # render_only: the stored persistence table, not integrated again
+        stored_persistence=([f"{R}/persistence.csv"] if STORED_PERSISTENCE else []),
     output:
+        # made unless render_only reads the stored one (input stored_persistence)
+        **(
+            {}
+            if STORED_PERSISTENCE
+            else {"persistence": update(f"{R}/persistence.csv")}
+        ),
         csv=update(f"{R}/reproduction.csv"),
         md=update(f"{R}/reproduction.md"),
         html=report(
@@ -80,7 +88,6 @@ rule reproduction:
             caption="../report/reproduction.rst",
             category="Reproduction",
         ),
-        persistence=update(f"{R}/persistence.csv"),
         # custody: the digests of the tables read and of these files (reproduction.write_record)
         provenance=update(f"{R}/reproduction.provenance.json"),
     log:

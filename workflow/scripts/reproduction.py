@@ -10,12 +10,24 @@ s = setup(snakemake)  # noqa: F821
 from morphlearn.figures import reproduction  # noqa: E402
 
 p, out = snakemake.params, snakemake.output  # noqa: F821
+stored = list(snakemake.input.stored_persistence)  # noqa: F821  (render_only: read, not integrated)
 table, persistence = reproduction.run(
-    s.results_dir, p.config_name, dict(p.thresholds), p.settings, p.near, p.limit, p.learners, p.coopt, p.survey
+    s.results_dir,
+    p.config_name,
+    dict(p.thresholds),
+    p.settings,
+    p.near,
+    p.limit,
+    p.learners,
+    p.coopt,
+    p.survey,
+    stored_persistence=stored[0] if stored else None,
 )
 reproduction.write(table, out.csv, out.md, out.html)
-persistence.to_csv(out.persistence, index=False)
+pers_path = stored[0] if stored else out.persistence
+if not stored:
+    persistence.to_csv(pers_path, index=False)
 extra = [f"{s.results_dir}/learners/correlations.csv"] if p.learners else []
 extra += [f"{s.results_dir}/coopt/{n}.csv" for n in ("summary", "landscape")] if p.coopt is not None else []
 extra += [f"{s.results_dir}/{s.survey.folder}/metrics.csv"] if p.survey else []
-reproduction.write_record(s.results_dir, list(p.thresholds), [out.csv, out.md, out.html, out.persistence], extra)
+reproduction.write_record(s.results_dir, list(p.thresholds), [out.csv, out.md, out.html, pers_path], extra)

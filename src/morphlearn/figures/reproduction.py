@@ -585,11 +585,14 @@ def run(
     learners_enabled: bool = False,
     coopt_sigma: float | None = None,
     survey: dict[str, Any] | None = None,
+    stored_persistence: str | Path | None = None,
 ) -> tuple[pd.DataFrame, pd.DataFrame]:
     """Load the results of the models of ``thresholds`` (model -> its thresholds: the models this
     config runs) and build (reproduction table, persistence table). ``coopt_sigma``: the coopt
     stage ran (its rows use the evolution strategies at that step). ``survey``: the physics survey
-    read from a bundle (its model and thresholds; config ``survey_from``)."""
+    read from a bundle (its model and thresholds; config ``survey_from``). ``stored_persistence``:
+    a persistence table already made for these results (render_only; checked at start by
+    :func:`morphlearn.rules.check_stored_persistence`), read instead of integrated again."""
     corr = None
     if learners_enabled:
         provenance.check_derived(Path(results_dir) / "learners" / "correlations.csv")  # custody
@@ -606,7 +609,10 @@ def run(
     theory, emp = res.get("theory"), res.get("empirical")
     if theory is None:
         raise FileNotFoundError(f"no theory results under {results_dir}")
-    pers = persistence_counts(theory, fd.TheorySettings(**settings), near, limit)
+    if stored_persistence is not None:
+        pers = pd.read_csv(stored_persistence)
+    else:
+        pers = persistence_counts(theory, fd.TheorySettings(**settings), near, limit)
     engines = {m: r for m, r in res.items() if m in physics_models()[1:] and r is not None}
     table = reproduction_table(
         theory, emp, pers, config_name, near, corr, engines, coopt, fd.load_survey(results_dir, survey)
