@@ -303,7 +303,7 @@ def test_render_only_reads_the_stored_persistence_table_only_when_its_record_vou
     with pytest.raises(ValueError, match=r"persistence.csv: SHA-256 .* differs from the .* that reproduction"):
         rules.check_stored_persistence(table)
     (tmp_path / "reproduction.provenance.json").unlink()
-    with pytest.raises(ValueError, match="reproduction.provenance.json: unreadable"):
+    with pytest.raises(ValueError, match=r"reproduction\.provenance\.json: unreadable"):
         rules.check_stored_persistence(table)
 
 
