@@ -12,7 +12,7 @@ import pandas as pd
 import pytest
 from conftest import copy_workflow, job_stats, snakemake
 
-from morphlearn import bundle, bundle_check, bundle_rerender, cli, metrics, resimulate, store
+from morphlearn import bundle, bundle_check, bundle_rerender, cli, metrics, resimulate, rules, store
 from morphlearn import grid as gridmod
 
 
@@ -158,3 +158,17 @@ def test_render_from_bundle_alone(smoke_bundle: Path, tmp_path: Path, monkeypatc
     # a bundle that is not whole is not re-rendered (nothing re-sealed over an edit)
     with pytest.raises(bundle.BundleError, match="not re-rendered"):
         bundle_rerender.rerender("results/paper", wd)
+
+
+def test_prune_empty_backups_removes_only_empty_folders(tmp_path: Path) -> None:
+    """What a render-only run leaves under .snakemake/backups (the empty folders of its figures'
+    backups) goes before the next run, so a bundle run into that folder can back it up; a
+    backup with content stays."""
+    root = tmp_path / "backups"
+    (root / "results/paper/figures").mkdir(parents=True)
+    (root / "results/other").mkdir(parents=True)
+    (root / "results/other/fig1.png").write_bytes(b"kept")
+    removed = rules.prune_empty_backups(root)
+    assert set(removed) == {root / "results/paper/figures", root / "results/paper"}
+    assert (root / "results/other/fig1.png").read_bytes() == b"kept"
+    assert rules.prune_empty_backups(tmp_path / "absent") == []

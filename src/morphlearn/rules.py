@@ -117,6 +117,24 @@ def check_render_inputs(paths: list[str]) -> None:
             provenance.check_derived(p, store.open_merged(Path(p).with_name("merged.zarr")))
 
 
+def prune_empty_backups(root: str | Path) -> list[Path]:
+    """Remove the empty folders under Snakemake's backup folder (``.snakemake/backups``); the ones
+    removed. Snakemake 9 (snakemake PRs 3833, 3839) copies an ``update()`` output there before its
+    job and deletes the copy after, but not the folders it made for it, so a later job whose output
+    is a folder at such a path (the bundle after a render-only run of it: ``results/paper``) fails
+    with FileExistsError. An empty folder holds no backup; anything else is left alone."""
+    root = Path(root)
+    if not root.is_dir():
+        return []
+    removed = []
+    # deepest first, so a folder whose only content was empty folders goes too
+    for d in sorted((p for p in root.rglob("*") if p.is_dir()), key=lambda p: len(p.parts), reverse=True):
+        if not any(d.iterdir()):
+            d.rmdir()
+            removed.append(d)
+    return removed
+
+
 def check_stored_persistence(path: str | Path) -> None:
     """render_only reads a stored persistence table instead of integrating its trajectories
     again: it must be the one the reproduction record beside it sealed (CustodyError naming it)."""

@@ -178,3 +178,9 @@ def figure_parameters(fig):
         default_flow_style=True,
         width=10**6,
     ).strip()
+
+
+onstart:
+    # Snakemake leaves the empty folders of its update() backups behind; a bundle run after a
+    # render-only run of that bundle would stop on them (rules.prune_empty_backups)
+    rules.prune_empty_backups(Path(workflow.persistence.path) / "backups")
