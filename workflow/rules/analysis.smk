@@ -21,7 +21,7 @@ rule merge:
     benchmark:
         f"{R}/benchmarks/{{model}}/merge.tsv"
     wildcard_constraints:
-        model="|".join(SIMULATED),
+        model=SIMULATED_MODEL,
     conda:
         "../../envs/analysis.yaml"
     params:
@@ -47,7 +47,7 @@ rule metrics:
     benchmark:
         f"{R}/benchmarks/{{model}}/metrics.tsv"
     wildcard_constraints:
-        model="|".join(SIMULATED),
+        model=SIMULATED_MODEL,
     conda:
         "../../envs/analysis.yaml"
     params:

@@ -35,6 +35,10 @@ os.environ["PATH"] = (
 R = S.results_dir
 MODELS = models.enabled(S)
 SIMULATED = models.simulated(S)
+# the {model} wildcard of the rules that merge and score simulated results; "(?!)" matches
+# nothing (an empty constraint would be none at all, and every model read from a bundle would
+# then be tried against them: the InputFunctionException noise of a run that simulates nothing)
+SIMULATED_MODEL = "|".join(SIMULATED) or "(?!)"
 # each simulated model's shards and science, once per start
 SHARDS = {m: models.get(m).shard_designs(S) for m in SIMULATED}
 SCIENCE = {m: models.get(m).science(S) for m in SIMULATED}
