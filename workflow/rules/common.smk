@@ -113,7 +113,9 @@ SURVEY_FILES = (
 # Figures need the theory results; render_only re-renders them from stored results alone.
 RENDER_ONLY = S.render_only
 # render_only reads the stored persistence table (its trajectories are a simulation: ~60 CPU-s
-# at paper resolution) instead of integrating them again; a folder without one makes it.
+# at paper resolution) instead of integrating them again, as it reads every other stored result
+# (a changed figures.near_distance or persistence_controllers needs a full run); a folder without
+# one makes it.
 STORED_PERSISTENCE = RENDER_ONLY and Path(f"{R}/persistence.csv").is_file()
 FIGURES = figure_options.figures(S)
 # Once per start: both a figure's inputs and its params use them.
