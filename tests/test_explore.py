@@ -11,6 +11,7 @@ from pathlib import Path
 
 import matplotlib
 import numpy as np
+import pandas as pd
 import pytest
 
 from morphlearn import bundle, explore, metrics
@@ -74,7 +75,9 @@ def test_map_layout_places_each_design_at_its_two_sensor_positions(paper: explor
 def test_empirical_map_leaves_unsimulated_designs_blank() -> None:
     ex = explore.Explorer(explore.open_source(explore.Source(RESULTS / "paper", "empirical")))
     img = ex.map_image("M_CF")
-    assert int(np.isfinite(img).sum()) == len(ex.res.table) == 3
+    # the designs the bundle's table holds (read apart from the explorer), a few of the 6561
+    held_designs = len(pd.read_csv(RESULTS / "paper/empirical/metrics.csv"))
+    assert int(np.isfinite(img).sum()) == len(ex.res.table) == held_designs < ex.grid.size
     held = int(ex.res.table.design.iloc[0])
     assert ex.landscape(held).source == "bundle"
     missing = next(d for d in range(ex.grid.size) if not ex.held(d))

@@ -127,8 +127,8 @@ def test_reproduction_survey_rows_of_a_further_engine_against_the_theory() -> No
 def test_refined_rows_say_how_the_theory_best_designs_do_in_physics() -> None:
     """Rows of physics results that are not a survey (issue 26's designs at 121 x 121): a further
     engine's canonical and best designs as the reference engine's rows, and for each metric the
-    theory's best design (or its mirror image) in physics, or "not simulated"; here on the committed
-    paper bundle (theory at paper resolution; pybullet on 3 designs)."""
+    theory's best design (or its mirror image) in physics, or "not among the designs held"; here on
+    the committed paper bundle (theory at paper resolution; pybullet on a few designs)."""
     import dataclasses
 
     from morphlearn import grid, metrics
@@ -140,7 +140,8 @@ def test_refined_rows_say_how_the_theory_best_designs_do_in_physics() -> None:
     mj = dataclasses.replace(emp, model="mujoco")
     rows = {r["key"]: r for r in rp.refined_rows(theory, mj, "mujoco", "cfg")}
     canon = metrics.find_row(emp.table, grid.canonical_design())
-    assert rows["mujoco_canonical_M_L"]["ours"].startswith(f"{canon.M_L:.4g} ({int(canon.generalists)} of 121")
+    m2 = emp.n_controllers
+    assert rows["mujoco_canonical_M_L"]["ours"].startswith(f"{canon.M_L:.4g} ({int(canon.generalists)} of {m2}")
     assert rows["mujoco_canonical_M_L"]["quantity"] == "MuJoCo, canonical design: M_L"
     assert rows["mujoco_best_on_both"]["paper"] == "yes (pybullet)"
     for by in metrics.METRICS:
@@ -151,7 +152,7 @@ def test_refined_rows_say_how_the_theory_best_designs_do_in_physics() -> None:
         said = rows[f"mujoco_theory_best_{by}_in_physics"]["ours"]
         if held:
             r = held[0]
-            assert said.startswith(f"{fd.design_label(*fd.row_design(r))}") and f"{int(r.generalists)} of 121" in said
+            assert said.startswith(f"{fd.design_label(*fd.row_design(r))}") and f"{int(r.generalists)} of {m2}" in said
         else:
             assert said.endswith(f"not among the {mj.n_designs} designs these results hold")
     # the reference engine gets only the theory-best rows (its own rows are the paper's quantities)
