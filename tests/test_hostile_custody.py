@@ -300,10 +300,10 @@ def test_render_only_reads_the_stored_persistence_table_only_when_its_record_vou
     rules.check_stored_persistence(table)  # intact: read as it is
     lines = table.read_text().splitlines(keepends=True)
     table.write_text("".join(lines[:-1]))  # one controller's row dropped
-    with pytest.raises(ValueError, match=r"persistence.csv: SHA-256 .* differs from the .* that reproduction"):
+    with pytest.raises(ValueError, match=r"persistence\.csv: SHA-256 .* differs from the .* that reproduction"):
         rules.check_stored_persistence(table)
     (tmp_path / "reproduction.provenance.json").unlink()
-    with pytest.raises(ValueError, match=r"reproduction\.provenance\.json: unreadable"):
+    with pytest.raises(ValueError, match=r"no provenance record reproduction\.provenance\.json beside it"):
         rules.check_stored_persistence(table)
 
 

@@ -135,16 +135,17 @@ def read_record(path: str | Path) -> dict[str, Any]:
     return rec
 
 
-def check_derived(path: str | Path, merged: Any = None) -> dict[str, Any]:
+def check_derived(path: str | Path, merged: Any = None, record: str | Path | None = None) -> dict[str, Any]:
     """Check a derived file (a metrics table) against its record before reading it; the record.
 
     A sealed record must name the file's SHA-256; an older, unsealed record is accepted only
     inside a bundle whose ``bundle.json`` lists both files with their digests (the committed
     bundles). ``merged``: the merged store (xarray Dataset) read beside the table, which must be
-    the one the table was computed from.
+    the one the table was computed from. ``record``: the record, when it is not the file's own
+    sidecar (``persistence.csv`` is sealed in ``reproduction.provenance.json``).
     """
     path = Path(path)
-    side = sidecar_of(path)
+    side = Path(record) if record is not None else sidecar_of(path)
     if not side.is_file():
         raise CustodyError(f"{path}: no provenance record {side.name} beside it, so nothing vouches for it")
     rec = read_record(side)

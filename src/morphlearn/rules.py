@@ -140,16 +140,7 @@ def check_stored_persistence(path: str | Path) -> None:
     again: it must be the one the reproduction record beside it sealed (CustodyError naming it)."""
     from morphlearn.figures.reproduction import RECORD
 
-    p = Path(path)
-    rec = provenance.read_record(p.with_name(RECORD))
-    outputs = rec.get(provenance.OUTPUTS) if provenance.SEAL in rec else None
-    want = outputs.get(p.name) if isinstance(outputs, dict) else None
-    got = provenance.sha256_file(p)
-    if want != got:
-        raise provenance.CustodyError(
-            f"{p}: SHA-256 {got[:12]} differs from the {(want or 'none')[:12]} that {RECORD} records "
-            "(changed or damaged); nothing was rendered"
-        )
+    provenance.check_derived(path, record=Path(path).with_name(RECORD))
 
 
 def check_custody(tables: list[str | Path], derived: list[str | Path] = ()) -> None:
