@@ -10,9 +10,9 @@ pytest.importorskip("mujoco")
 from morphlearn.empirical.options import SweepOptions
 from morphlearn.empirical.params import EmpiricalParams, load_params
 from morphlearn.empirical.reach import ReachBound
-from morphlearn.empirical.refine import refine
+from morphlearn.empirical.refine import refine, refine_waves
 from morphlearn.grid import weights
-from morphlearn.mujoco.episode import BatchRunner, evaluate_design, lower_times, refine_waves
+from morphlearn.mujoco.episode import BatchRunner, evaluate_design, lower_times
 from morphlearn.mujoco.model import MujocoSettings, build_model, mjcf
 
 CANON = ((0.5, 0.5), (0.5, -0.5))

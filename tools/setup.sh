@@ -10,6 +10,17 @@ PY=${PYTHON:-python3}
 # it would do every time where PYTHONDONTWRITEBYTECODE is set (this project's machines: a smoke
 # config's dry run took 27.6 s without and 12.5 s with it).
 .venv/bin/uv pip install -q --compile-bytecode --python .venv/bin/python -r requirements.lock
-.venv/bin/uv pip install -q --python .venv/bin/python --no-deps -e .
+# The ode model's C core (morphlearn.ode._core) builds against Debian's libode-dev (ODE 0.16,
+# double precision): installed here when missing and run as root (CI, fresh machines); otherwise
+# one line says what to install, and every other model works without it.
+if [ ! -f /usr/include/ode/ode.h ]; then
+  if [ "$(id -u)" = 0 ] && command -v apt-get >/dev/null 2>&1; then
+    apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq libode-dev >/dev/null
+  else
+    echo "libode-dev missing: the ode model needs it (sudo apt-get install libode-dev, then bash tools/setup.sh again)"
+  fi
+fi
+# --reinstall-package: rebuild the C extension every time (a library installed since is picked up)
+.venv/bin/uv pip install -q --python .venv/bin/python --no-deps --reinstall-package morphlearn -e .
 .venv/bin/python -m compileall -q src
 echo "morphlearn environment ready in .venv (activate: source .venv/bin/activate)"

@@ -147,8 +147,12 @@ def _check_paths(cfg: dict[str, Any]) -> None:
         sec, _, name = key.rpartition(".")
         holder = cfg.get(sec, {}) if sec else cfg
         check_path(key, holder.get(name) if isinstance(holder, dict) else None)
-    check_path("mujoco.morphology", cfg.get("mujoco", {}).get("morphology"))
-    check_path("mujoco.results_from", cfg.get("mujoco", {}).get("results_from"))
+    # every model section's body file and bundle (the physics models share these keys)
+    for sec, body in cfg.items():
+        if isinstance(body, dict) and sec not in {k.partition(".")[0] for k in PATH_KEYS if "." in k}:
+            for name in ("morphology", "results_from"):
+                if isinstance(body.get(name), str):
+                    check_path(f"{sec}.{name}", body[name])
 
 
 def _check_results_dir(rd: str) -> None:

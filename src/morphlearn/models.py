@@ -21,10 +21,11 @@ if TYPE_CHECKING:
 def _registry() -> dict[str, Model]:
     from morphlearn.empirical.plugin import Pybullet
     from morphlearn.mujoco.plugin import Mujoco
+    from morphlearn.ode.plugin import Ode
     from morphlearn.theory.plugin import Theory
 
     # Order is the order of tables, summaries and reports; the first model is the reference.
-    return {m.name: m for m in (Theory(), Pybullet(), Mujoco())}
+    return {m.name: m for m in (Theory(), Pybullet(), Mujoco(), Ode())}
 
 
 #: name -> model, every registered model.

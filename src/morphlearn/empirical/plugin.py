@@ -69,6 +69,8 @@ class Physics(Model):
     #: :mod:`morphlearn.empirical.partial`): the run's design cache then holds running designs too.
     resumes_inside_design: ClassVar[bool] = False
     cli_options = ("morphology",)
+    #: The body file used when the section or ``morphology`` option names none.
+    default_morphology: ClassVar[str] = DEFAULT_MORPHOLOGY
 
     # -- settings ----------------------------------------------------------------------------------
     def parse(self, sec: Mapping[str, Any], shared: Shared) -> PhysicsSettings:
@@ -83,7 +85,7 @@ class Physics(Model):
         params, body = None, None
         # the body file is read here, once: the sweep's science and Fig. 1C (the body) need it
         if enabled or (self.figure_body and shared.figures.enabled):
-            body = self._read_body(sec.get("morphology", DEFAULT_MORPHOLOGY))
+            body = self._read_body(sec.get("morphology", self.default_morphology))
         overrides = dict(sec.get("params", {}))
         if enabled and results_from is None:  # a bundle's results carry their own parameters
             self._check_params(overrides, body)
@@ -110,7 +112,7 @@ class Physics(Model):
             }
         return PhysicsSettings(
             enabled=enabled,
-            morphology=sec.get("morphology", DEFAULT_MORPHOLOGY),
+            morphology=sec.get("morphology", self.default_morphology),
             params=params,
             weights=weights,
             held=tuple(held),
@@ -342,7 +344,7 @@ class Physics(Model):
     ) -> DesignResult:
         from morphlearn.cli import UsageError, c_stdout_to_stderr
 
-        path = a.morphology or DEFAULT_MORPHOLOGY
+        path = a.morphology or self.default_morphology
         if not Path(path).is_file():
             raise UsageError(f"--morphology {path}: no such file (a YAML of body parameters)")
         try:

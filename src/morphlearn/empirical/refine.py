@@ -110,3 +110,27 @@ def misses(
         "generalists": int(gen.sum()),
         "generalists_missed": int((gen & ~gen_kept).sum()),
     }
+
+
+def refine_waves(
+    m: int, n_maps: int, simulate: Callable[[np.ndarray], tuple[np.ndarray, np.ndarray]], stride: int
+) -> np.ndarray:
+    """:func:`morphlearn.empirical.refine.refine` on ``n_maps`` (m, m) maps at once: each wave of
+    every map is simulated in one call ``simulate(cells)`` (cells (k, 3) = map, i, j) returning
+    ``(success, promising)``. The same cells as ``refine`` per map: ``refine`` too simulates a
+    whole wave before it looks at its outcomes. Returns the (n_maps, m, m) simulated mask."""
+    done = np.zeros((n_maps, m, m), bool)
+    wave = np.argwhere(np.broadcast_to(lattice(m, stride), (n_maps, m, m)))
+    while len(wave):
+        done[tuple(wave.T)] = True
+        ok, promising = simulate(wave)
+        seeds = np.zeros((n_maps, m, m), bool)
+        seeds[tuple(wave[ok | promising].T)] = True
+        grow = seeds.copy()  # 8-neighbourhood of the seeds
+        grow[:, 1:, :] |= seeds[:, :-1, :]
+        grow[:, :-1, :] |= seeds[:, 1:, :]
+        grow2 = grow.copy()
+        grow2[:, :, 1:] |= grow[:, :, :-1]
+        grow2[:, :, :-1] |= grow[:, :, 1:]
+        wave = np.argwhere(grow2 & ~done)
+    return done

@@ -299,7 +299,7 @@ def evaluate_designs(
     Per design the same cells and outcomes as ``evaluate_design`` with the same runner (worlds are
     independent; with the adaptive grid, :func:`refine_waves` grows every design's maps as
     ``refine`` does). ``done(index, result)`` as each batch of designs finishes."""
-    from morphlearn.mujoco.episode import refine_waves
+    from morphlearn.empirical.refine import refine_waves
     from morphlearn.results import STATUS_INFERRED, STATUS_NONFINITE, STATUS_OK, DesignResult
 
     options = options or SweepOptions()

@@ -1,0 +1,126 @@
+"""The C core (:mod:`morphlearn.ode._core`) behind a checked Python call.
+
+:func:`run` runs a batch of episodes of the authors' robot (docs/ode.md), each in its own ODE
+world, wholly in C; this module checks the inputs, lays out the buffers and names the missing
+library in one line when the extension was not built (Debian's ``libode-dev`` absent at set-up).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from types import ModuleType
+from typing import Any
+
+import numpy as np
+
+from morphlearn.empirical.params import EmpiricalParams
+from morphlearn.grid import light_positions
+
+#: The authors' success test adds 2^-10 to the contact distance 0.5 + wheel radius + light radius.
+SUCCESS_TOLERANCE = 2.0**-10
+INSTALL_HINT = (
+    "the ode model needs the Open Dynamics Engine: install Debian's libode-dev "
+    "(apt-get install libode-dev), then run bash tools/setup.sh to build morphlearn.ode._core"
+)
+
+
+class OdeUnavailableError(RuntimeError):
+    """The C core is not built (no ODE library at set-up)."""
+
+
+def core() -> ModuleType:
+    """The compiled core, or OdeUnavailableError naming the package to install."""
+    try:
+        from morphlearn.ode import _core
+    except ImportError as e:
+        raise OdeUnavailableError(f"{INSTALL_HINT} ({e})") from None
+    return _core
+
+
+def available() -> bool:
+    try:
+        core()
+    except OdeUnavailableError:
+        return False
+    return True
+
+
+def success_radius(p: EmpiricalParams) -> float:
+    """Centre-to-light distance that counts as success in the authors' simulator."""
+    return p.contact_distance + SUCCESS_TOLERANCE
+
+
+def params_tuple(p: EmpiricalParams) -> tuple[Any, ...]:
+    """The body as the C core reads it (order fixed by ``_core.c``'s Params). wheel_friction and
+    solver_iterations are not read: ODE's contacts have mu = infinity with force-dependent slip,
+    and dWorldStep solves exactly."""
+    return (
+        float(p.body_mass),
+        float(p.wheel_mass),
+        float(p.castor_mass),
+        float(p.wheel_radius),
+        float(p.max_speed),
+        float(p.max_torque),
+        float(p.wheel_setback),
+        float(p.light_radius),
+        float(p.gravity),
+        float(p.dt),
+        int(p.steps),
+        success_radius(p),
+    )
+
+
+@dataclass(frozen=True)
+class Episodes:
+    """Outcomes of a batch, arrays of shape (n,)."""
+
+    first_step: np.ndarray  # first step with the centre within the success radius (-1: none)
+    min_dist: np.ndarray  # closest centre-to-light distance up to success (or the horizon)
+    steps: np.ndarray  # steps simulated
+    finite: np.ndarray  # False where the state became NaN/inf (stopped there)
+
+    @property
+    def success(self) -> np.ndarray:
+        return self.first_step >= 0
+
+
+def _points(name: str, v: Any, n: int) -> np.ndarray:
+    a = np.broadcast_to(np.asarray(v, dtype=np.float64), (n, 2))
+    if not np.isfinite(a).all() or np.abs(a).max(initial=0.0) > 0.5:
+        raise ValueError(f"{name} = {np.asarray(v).tolist()!r} is off the body; allowed: finite x, y in [-0.5, 0.5]")
+    return a
+
+
+def run(
+    p: EmpiricalParams,
+    l1: Any,
+    l2: Any,
+    w: Any,
+    env: Any,
+    *,
+    stop_at_success: bool = True,
+    path: bool = False,
+) -> tuple[Episodes, np.ndarray | None]:
+    """Episodes of sensor points ``l1``, ``l2`` ((n, 2) or one point for all, project frame),
+    weights ``w`` (n, 2) and environments ``env`` (n,), in that order. ``stop_at_success``: an
+    episode ends at its first success (exact: nothing after it is read). ``path``: also the chassis
+    (x, y) read at each step, (n, steps, 2), NaN after the episode stopped."""
+    w = np.ascontiguousarray(np.atleast_2d(np.asarray(w, dtype=np.float64)))
+    n = len(w)
+    if w.shape != (n, 2):
+        raise ValueError(f"weights must have shape (n, 2); got {w.shape}")
+    if not np.isfinite(w).all() or np.abs(w).max(initial=0.0) > 1.0:
+        bad = w[~(np.isfinite(w) & (np.abs(w) <= 1.0))][0]
+        raise ValueError(f"weight {float(bad)!r} is invalid; allowed: finite values in [-1, 1]")
+    env = np.broadcast_to(np.asarray(env, dtype=np.int64), (n,))
+    if np.any((env < 0) | (env > 3)):
+        raise ValueError(f"env {sorted(set(env.tolist()) - {0, 1, 2, 3})} invalid; allowed: 0..3")
+    sensors = np.ascontiguousarray(np.concatenate([_points("l1", l1, n), _points("l2", l2, n)], axis=1))
+    lights = np.ascontiguousarray(light_positions(p.light_distance)[env])
+    first = np.empty(n, np.int64)
+    dmin = np.empty(n, np.float64)
+    steps = np.empty(n, np.int64)
+    finite = np.empty(n, np.uint8)
+    track = np.full((n, p.steps, 2), np.nan) if path else None
+    core().run_batch(params_tuple(p), n, sensors, w, lights, first, dmin, steps, finite, bool(stop_at_success), track)
+    return Episodes(first, dmin, steps, finite.astype(bool)), track

@@ -1,0 +1,70 @@
+"""The ODE model as a plug-in of the model registry: the paper authors' own robot and world in
+the Open Dynamics Engine (docs/ode.md), a physics model (:class:`Physics`: the same config keys,
+store, metrics and custody as pybullet and MuJoCo) whose body is the authors' constants
+(``config/authors_body.yaml``) and whose success radius is the authors' (contact distance + 2^-10).
+"""
+
+from __future__ import annotations
+
+import argparse
+from collections.abc import Callable, Mapping
+from typing import TYPE_CHECKING, Any
+
+from morphlearn.empirical.plugin import Physics
+from morphlearn.ode.core import INSTALL_HINT, available, success_radius
+
+if TYPE_CHECKING:
+    from morphlearn.metrics import Thresholds
+    from morphlearn.results import DesignResult
+    from morphlearn.settings import Settings, Shared
+
+
+class Ode(Physics):
+    name = "ode"
+    engine = "ode"
+    engine_label = "ODE"
+    env_file = "envs/empirical.yaml"
+    default_morphology = "config/authors_body.yaml"
+
+    def parse(self, sec: Mapping[str, Any], shared: Shared) -> Any:
+        from morphlearn.config import ConfigError
+
+        if sec.get("enabled") and sec.get("results_from") is None and not available():
+            raise ConfigError(f"ode.enabled = true: {INSTALL_HINT}")
+        return super().parse(sec, shared)
+
+    @staticmethod
+    def design_evaluator() -> Callable[..., DesignResult]:
+        from morphlearn.ode.episode import evaluate_design
+
+        return evaluate_design
+
+    def thresholds(self, s: Settings) -> Thresholds:
+        from morphlearn.metrics import Thresholds
+
+        e = self.settings(s)
+        if e.bundle_thresholds is not None:
+            return Thresholds(**e.bundle_thresholds)
+        r = success_radius(e.params)  # the authors' test: contact distance + 2^-10
+        return Thresholds(e.params.horizon, r, e.params.horizon, r)
+
+    def describe(self, science: Mapping[str, Any], n_designs: int, m: int) -> str:
+        pr = science.get("params", {})
+        how = "one of each mirror pair simulated, the other derived" if science.get("mirror_derive") else "simulated"
+        if ad := science.get("adaptive_weights"):
+            how += f", weight grid refined adaptively (near {ad.get('near')}; miss rate in docs/ode.md)"
+        return (
+            f"{n_designs} designs {how} in ODE (the authors' robot and world, docs/ode.md) on the "
+            f"{science.get('positions_per_axis')}-point grid, {m} weights per synapse; gravity "
+            f"{pr.get('gravity')}, {pr.get('steps')} steps of dt = {pr.get('dt')}, every episode to its "
+            "first success (contact distance + 2^-10)"
+        )
+
+    def evaluate_one(
+        self, l1: tuple[float, float], l2: tuple[float, float], w: Any, a: argparse.Namespace
+    ) -> DesignResult:
+        from morphlearn.cli import UsageError
+
+        if not available():
+            raise UsageError(f"--model ode: {INSTALL_HINT}")
+        return super().evaluate_one(l1, l2, w, a)
