@@ -1,4 +1,4 @@
-"""Episodes per core-second, pybullet vs MuJoCo, on the same designs, weights and environments.
+"""Episodes per core-second, pybullet vs MuJoCo vs ODE, on the same designs, weights and environments.
 
 Both engines run every (design, env, w1, w2) cell of ``--designs`` designs of the
 5-positions-per-axis grid (the canonical design first, then a fixed random sample) at
@@ -6,7 +6,10 @@ Both engines run every (design, env, w1, w2) cell of ``--designs`` designs of th
 thread), episodes stopping at contact; once with full-length failures and once with the early
 stop (exact). Rate = episodes / CPU seconds of this process. Then a profile of the MuJoCo run:
 the share inside ``Batch.step`` (C) against the numpy controller, and MuJoCo's own stage timers
-over one episode (what inside ``mj_step`` costs). Usage::
+over one episode (what inside ``mj_step`` costs). ODE (:mod:`morphlearn.ode`) runs the same cells
+with its own body, the authors' (``config/authors_body.yaml``; it has no reach bound: every
+episode stops at success), and says how close an episode is to the cost of ``dWorldStep`` alone
+(the C core's own timers, CPU time). Usage::
 
     python benchmarks/bench_engines.py [--designs 3] [--m 5] [--seed 0]
 """
@@ -58,6 +61,18 @@ def bench_mujoco(params, l1, l2, w, env, margin):  # type: ignore[no-untyped-def
     return time.process_time() - t, ep.first_time, ep.steps
 
 
+def bench_ode(l1, l2, w, env):  # type: ignore[no-untyped-def]
+    from morphlearn.ode import core
+
+    body = load_params(ROOT / "config/authors_body.yaml")
+    t = time.process_time()
+    ep, _ = core.run(body, l1, l2, w, env)
+    spent = time.process_time() - t
+    timing: dict[str, float] = {}
+    core.run(body, l1, l2, w, env, timing=timing)  # again, timed inside C (clock reads add a little)
+    return spent, ep, timing
+
+
 def stage_timers(params) -> dict[str, float]:  # type: ignore[no-untyped-def]
     """MuJoCo's stage timers over one full-length canonical episode at w = (0.6, 0.2), env 45 deg."""
     import mujoco
@@ -107,6 +122,14 @@ def main() -> None:
             f"successes pybullet {int((~np.isnan(f_pb)).sum())}, MuJoCo {int((~np.isnan(f_mj)).sum())}, "
             f"same outcome in {agree}/{n} episodes"
         )
+    t_ode, ep, timing = bench_ode(l1, l2, w, env)
+    print(
+        f"ODE (authors' body, to success or horizon): {n / t_ode:.1f} episodes/core-s ({t_ode:.1f} s, "
+        f"{1e6 * t_ode / ep.steps.sum():.2f} us per step, {int(ep.steps.sum())} steps, {int(ep.success.sum())} "
+        f"successes); dWorldStep alone {n / timing['world_step']:.1f} episodes/core-s "
+        f"({100 * timing['world_step'] / t_ode:.0f} % of the run), "
+        f"dSpaceCollide {100 * timing['collide'] / t_ode:.0f} %"
+    )
     # Where the MuJoCo time goes.
     prof = cProfile.Profile()
     runner = BatchRunner(params, nthread=1)

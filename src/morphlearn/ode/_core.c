@@ -15,6 +15,7 @@
 #include <math.h>
 #include <stdint.h>
 #include <string.h>
+#include <time.h>
 
 #include <ode/ode.h>
 
@@ -187,9 +188,21 @@ static void control(const World *W, const Params *p, double w1, double w2, doubl
  * over the whole episode if !stop_at_success), the steps simulated, and whether the state stayed
  * finite. With path != NULL, writes the chassis (x, y) read at each step, in the project's frame
  * (2 * steps doubles; the caller fills NaN). */
+static double cpu_now(void) {
+    struct timespec t;
+    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
+}
+
+/* CPU seconds spent in dSpaceCollide and dWorldStep (benchmarks: how close an episode is to the
+ * cost of dWorldStep alone); NULL when not measured. */
+typedef struct {
+    double collide, step;
+} Timing;
+
 static void episode(const Params *p, const double *s1, const double *s2, double w1, double w2, double lx,
                     double ly, int stop_at_success, int64_t *first, double *dmin, int64_t *steps,
-                    uint8_t *finite, double *path) {
+                    uint8_t *finite, double *path, Timing *timing) {
     World W;
     world_build(&W, p, s1, s2, lx, ly);
     CollideData cd = {W.world, W.contacts};
@@ -198,7 +211,9 @@ static void episode(const Params *p, const double *s1, const double *s2, double 
     int64_t hit = -1, k = 0;
     uint8_t ok = 1;
     for (k = 0; k < p->steps; k++) {
+        double t0 = timing ? cpu_now() : 0;
         dSpaceCollide(W.space, &cd, near_callback);
+        if (timing) timing->collide += cpu_now() - t0;
         const dReal *c = dBodyGetPosition(chassis);
         if (!(isfinite(c[0]) && isfinite(c[1]) && isfinite(c[2]))) {
             ok = 0;
@@ -216,7 +231,9 @@ static void episode(const Params *p, const double *s1, const double *s2, double 
             if (stop_at_success) break;
         }
         control(&W, p, w1, w2, &r1, &r2);
+        if (timing) t0 = cpu_now();
         dWorldStep(W.world, p->dt);
+        if (timing) timing->step += cpu_now() - t0;
         dJointGroupEmpty(W.contacts);
     }
     *first = hit;
@@ -249,12 +266,12 @@ static int get_buffer(PyObject *o, Py_buffer *b, const char *name, const char *f
 static PyObject *run_batch(PyObject *self, PyObject *args) {
     Params p;
     PyObject *o[8];
-    int stop_at_success;
+    int stop_at_success, timed = 0;
     Py_ssize_t n;
-    if (!PyArg_ParseTuple(args, "(ddddddddddld)nOOOOOOOpO", &p.body_mass, &p.wheel_mass, &p.castor_mass,
+    if (!PyArg_ParseTuple(args, "(ddddddddddld)nOOOOOOOpO|p", &p.body_mass, &p.wheel_mass, &p.castor_mass,
                           &p.wheel_radius, &p.max_speed, &p.max_torque, &p.wheel_setback, &p.light_radius,
                           &p.gravity, &p.dt, &p.steps, &p.success_radius, &n, &o[0], &o[1], &o[2], &o[3], &o[4],
-                          &o[5], &o[6], &stop_at_success, &o[7]))
+                          &o[5], &o[6], &stop_at_success, &o[7], &timed))
         return NULL;
     if (n < 0 || p.steps < 1) {
         PyErr_SetString(PyExc_ValueError, "n must be >= 0 and steps >= 1");
@@ -281,6 +298,7 @@ static PyObject *run_batch(PyObject *self, PyObject *args) {
             PyErr_SetString(PyExc_ValueError, "weights or lights: not finite");
             goto fail;
         }
+    Timing timing = {0, 0};
     Py_BEGIN_ALLOW_THREADS;
     for (Py_ssize_t i = 0; i < n; i++) {
         const double *s = sen + 4 * i, *l = li + 2 * i;
@@ -288,10 +306,11 @@ static PyObject *run_batch(PyObject *self, PyObject *args) {
         const double s1[2] = {-s[1], s[0]}, s2[2] = {-s[3], s[2]};
         episode(&p, s1, s2, w[2 * i], w[2 * i + 1], -l[1], l[0], stop_at_success, (int64_t *)b[3].buf + i,
                 (double *)b[4].buf + i, (int64_t *)b[5].buf + i, (uint8_t *)b[6].buf + i,
-                with_path ? (double *)b[7].buf + 2 * i * p.steps : NULL);
+                with_path ? (double *)b[7].buf + 2 * i * p.steps : NULL, timed ? &timing : NULL);
     }
     Py_END_ALLOW_THREADS;
     for (int i = 0; i < got; i++) PyBuffer_Release(&b[i]);
+    if (timed) return Py_BuildValue("{s:d,s:d}", "collide", timing.collide, "world_step", timing.step);
     Py_RETURN_NONE;
 fail:
     for (int i = 0; i < got; i++) PyBuffer_Release(&b[i]);
@@ -401,7 +420,7 @@ static PyObject *config(PyObject *self, PyObject *noargs) {
 
 static PyMethodDef methods[] = {
     {"run_batch", run_batch, METH_VARARGS,
-     "run_batch(params, n, sensors, weights, lights, first_step, d_min, steps, finite, stop_at_success, path)"},
+     "run_batch(params, n, sensors, weights, lights, first_step, d_min, steps, finite, stop_at_success, path[, timed])"},
     {"facts", facts, METH_VARARGS, "facts(params, sensors, light, w1, w2): the world as built, read back."},
     {"config", config, METH_NOARGS, "ODE's build configuration string (dGetConfiguration)."},
     {NULL, NULL, 0, NULL}};

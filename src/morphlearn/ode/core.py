@@ -100,11 +100,13 @@ def run(
     *,
     stop_at_success: bool = True,
     path: bool = False,
+    timing: dict[str, float] | None = None,
 ) -> tuple[Episodes, np.ndarray | None]:
     """Episodes of sensor points ``l1``, ``l2`` ((n, 2) or one point for all, project frame),
     weights ``w`` (n, 2) and environments ``env`` (n,), in that order. ``stop_at_success``: an
     episode ends at its first success (exact: nothing after it is read). ``path``: also the chassis
-    (x, y) read at each step, (n, steps, 2), NaN after the episode stopped."""
+    (x, y) read at each step, (n, steps, 2), NaN after the episode stopped. ``timing``: a dict
+    that receives the CPU seconds spent in dSpaceCollide and dWorldStep (benchmarks)."""
     w = np.ascontiguousarray(np.atleast_2d(np.asarray(w, dtype=np.float64)))
     n = len(w)
     if w.shape != (n, 2):
@@ -122,5 +124,20 @@ def run(
     steps = np.empty(n, np.int64)
     finite = np.empty(n, np.uint8)
     track = np.full((n, p.steps, 2), np.nan) if path else None
-    core().run_batch(params_tuple(p), n, sensors, w, lights, first, dmin, steps, finite, bool(stop_at_success), track)
+    spent = core().run_batch(
+        params_tuple(p),
+        n,
+        sensors,
+        w,
+        lights,
+        first,
+        dmin,
+        steps,
+        finite,
+        bool(stop_at_success),
+        track,
+        timing is not None,
+    )
+    if timing is not None:
+        timing.update(spent)
     return Episodes(first, dmin, steps, finite.astype(bool)), track

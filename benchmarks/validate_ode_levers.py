@@ -1,0 +1,142 @@
+"""Validate the ODE model's levers (docs/ode.md) against exhaustive runs.
+
+``mirror OUT``: simulates every (env, w1, w2) episode of ``--pairs`` mirror pairs of designs of the
+paper's 9-point grid (a seeded sample of designs that are not their own mirror image, the paper's
+empirical best design always in it) at ``--m`` x ``--m`` weights, both designs of each pair, and
+counts the flips between a design's simulated outcomes and those derived from its mirror image
+(environment mirrored, w1 <-> w2): ODE creates the left wheel before the right, so the constraint
+rows are not mirror-symmetric and the engine is symmetric only to rounding. One ``.npz`` per design
+in OUT (resumable: finished designs are kept).
+
+``adaptive STORE``: replays the adaptive weight grid (:func:`morphlearn.empirical.refine.misses`)
+on the exhaustive outcomes in a merged store (e.g. ``results/ode-paper-run/ode/merged.zarr``, every
+cell simulated) at several ``--near`` values: the successes and generalists it would miss and the
+share of episodes it would simulate.
+
+Usage::
+
+    python benchmarks/validate_ode_levers.py mirror OUT [--pairs 20] [--m 11] [--seed 0]
+    python benchmarks/validate_ode_levers.py adaptive results/ode-paper-run/ode/merged.zarr
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import time
+from pathlib import Path
+
+import numpy as np
+
+from morphlearn.empirical.params import load_params
+from morphlearn.empirical.refine import misses
+from morphlearn.grid import DesignGrid, weights
+from morphlearn.store import mirror_arrays
+
+ROOT = Path(__file__).resolve().parents[1]
+PAPER_BEST = ((-0.5, 0.125), (0.5, -0.375))
+
+
+def sample(pairs: int, seed: int) -> list[int]:
+    g = DesignGrid(9)
+    reps = g.representatives()
+    reps = reps[g.mirror(reps) != reps]  # not its own mirror image
+    best = g.index_of(*PAPER_BEST)
+    best = min(best, int(g.mirror(best)))
+    rng = np.random.default_rng(seed)
+    others = rng.choice(np.setdiff1d(reps, [best]), pairs - 1, replace=False)
+    return [best, *sorted(int(d) for d in others)]
+
+
+def simulate(design: int, m: int, out: Path) -> dict[str, np.ndarray]:
+    from morphlearn.ode.episode import evaluate_design
+
+    f = out / f"d{design}_m{m}.npz"
+    if f.exists():
+        with np.load(f) as z:
+            return {k: z[k] for k in z.files}
+    c = DesignGrid(9).coords(np.array([design]))[0]
+    t = time.process_time()
+    r = evaluate_design((c[0], c[1]), (c[2], c[3]), weights(m), load_params(ROOT / "config/authors_body.yaml"))
+    arrays = {"first_time": r.first_time, "min_dist": r.min_dist, "cpu_s": np.array(time.process_time() - t)}
+    tmp = f.with_suffix(".tmp.npz")
+    np.savez(tmp, **arrays)
+    tmp.replace(f)  # whole files only: a killed run resumes from the designs it finished
+    return arrays
+
+
+def cmd_mirror(a: argparse.Namespace) -> None:
+    a.out.mkdir(parents=True, exist_ok=True)
+    g = DesignGrid(9)
+    cells = flips = gens = gen_flips = 0
+    worst = 0.0
+    per = []
+    for d in sample(a.pairs, a.seed):
+        md = int(g.mirror(d))
+        x, y = simulate(d, a.m, a.out), simulate(md, a.m, a.out)
+        derived = mirror_arrays({"first_time": x["first_time"], "min_dist": x["min_dist"]})
+        s_sim, s_der = ~np.isnan(y["first_time"]), ~np.isnan(derived["first_time"])
+        f = int((s_sim != s_der).sum())
+        gs, gd = s_sim.all(axis=0), s_der.all(axis=0)
+        cells += s_sim.size
+        flips += f
+        gens += int(gs.sum())
+        gen_flips += int((gs != gd).sum())
+        same = np.isclose(y["min_dist"], derived["min_dist"], rtol=0, atol=0)
+        worst = max(worst, float(np.nanmax(np.abs(y["min_dist"] - derived["min_dist"]))))
+        per.append({"design": d, "mirror": md, "flips": f, "bit_identical_min_dist": float(same.mean())})
+        print(f"design {d} / mirror {md}: {f} flips of {s_sim.size} cells, generalists {int(gs.sum())}", flush=True)
+    report = {
+        "pairs": len(per),
+        "weights": a.m,
+        "cells": cells,
+        "success_flips": flips,
+        "flip_rate": flips / cells,
+        "generalists": gens,
+        "generalist_flips": gen_flips,
+        "max_abs_min_dist_difference": worst,
+        "per_pair": per,
+    }
+    (a.out / "mirror_report.json").write_text(json.dumps(report, indent=1) + "\n")
+    print(json.dumps({k: v for k, v in report.items() if k != "per_pair"}))
+
+
+def cmd_adaptive(a: argparse.Namespace) -> None:
+    from morphlearn import store
+
+    ds = store.open_merged(a.store)
+    body = load_params(ROOT / "config/authors_body.yaml")
+    rows = []
+    for d in ds.design.values:
+        sel = ds.sel(design=d)
+        first, dist = sel.first_time.values, sel.min_dist.values
+        if np.isnan(dist).any():
+            raise SystemExit(f"{a.store}: design {int(d)} is not exhaustive (unsimulated cells)")
+        for near in a.near:
+            r = misses(~np.isnan(first), dist, body.contact_distance, near)
+            rows.append({"design": int(d), **r})
+            print(json.dumps(rows[-1]))
+    if a.json:
+        a.json.write_text(json.dumps(rows, indent=1) + "\n")
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    sub = ap.add_subparsers(dest="cmd", required=True)
+    mp = sub.add_parser("mirror")
+    mp.add_argument("out", type=Path)
+    mp.add_argument("--pairs", type=int, default=20)
+    mp.add_argument("--m", type=int, default=11)
+    mp.add_argument("--seed", type=int, default=0)
+    mp.set_defaults(func=cmd_mirror)
+    ad = sub.add_parser("adaptive")
+    ad.add_argument("store", type=Path)
+    ad.add_argument("--near", type=float, nargs="+", default=[1.5, 2.0, 3.0, 4.0])
+    ad.add_argument("--json", type=Path)
+    ad.set_defaults(func=cmd_adaptive)
+    a = ap.parse_args()
+    a.func(a)
+
+
+if __name__ == "__main__":
+    main()
