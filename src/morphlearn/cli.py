@@ -262,7 +262,6 @@ def cmd_run(args: Sequence[str]) -> int:
 
 
 def build_parser() -> argparse.ArgumentParser:
-    from morphlearn.empirical.plugin import DEFAULT_MORPHOLOGY
     from morphlearn.models import MODELS, REFERENCE
 
     p = _Parser(prog="morphlearn", description=__doc__)
@@ -279,7 +278,9 @@ def build_parser() -> argparse.ArgumentParser:
     d.add_argument(
         "--morphology",
         default=None,
-        help=f"physics models: body parameters YAML (default: {DEFAULT_MORPHOLOGY}, the committed morphology)",
+        help="physics models: body parameters YAML (default: "
+        + "; ".join(f"{n}: {m.default_morphology}" for n, m in MODELS.items() if hasattr(m, "default_morphology"))
+        + ")",
     )
     d.add_argument("--json", action="store_true", help="print one JSON object")
     d.set_defaults(func=cmd_design)
