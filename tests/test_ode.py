@@ -49,6 +49,11 @@ def test_body_file_holds_the_authors_constants() -> None:
     assert core.success_radius(BODY) == 0.5 + WR + 0.2 + 2.0**-10
 
 
+def test_built_against_debians_ode_in_double_precision() -> None:
+    assert core.core().version() == "0.16.2"  # the pinned libode-dev (tools/setup.sh)
+    assert "ODE_double_precision" in core.core().config()
+
+
 def test_world_read_back_from_the_engine_is_the_authors() -> None:
     f = core.core().facts(core.params_tuple(BODY), (0.5, 0.5, 0.5, -0.5), (4.0, 4.0), 1.0, -0.5)
     assert f["gravity"] == (0.0, 0.0, -1.0) and f["space"] == "hash"

@@ -418,10 +418,13 @@ static PyObject *config(PyObject *self, PyObject *noargs) {
     return PyUnicode_FromString(c ? c : "");
 }
 
+static PyObject *version(PyObject *self, PyObject *noargs) { return PyUnicode_FromString(dODE_VERSION); }
+
 static PyMethodDef methods[] = {
     {"run_batch", run_batch, METH_VARARGS,
      "run_batch(params, n, sensors, weights, lights, first_step, d_min, steps, finite, stop_at_success, path[, timed])"},
     {"facts", facts, METH_VARARGS, "facts(params, sensors, light, w1, w2): the world as built, read back."},
+    {"version", version, METH_NOARGS, "The ODE version the core was built against (ode/version.h)."},
     {"config", config, METH_NOARGS, "ODE's build configuration string (dGetConfiguration)."},
     {NULL, NULL, 0, NULL}};
 
