@@ -207,3 +207,32 @@ def test_design_cli_runs_the_ode_model() -> None:
     )  # fmt: skip
     assert out.returncode == 0, out.stderr
     assert "model ode" in out.stdout
+
+
+@pytest.mark.parametrize("adaptive", [False, True])
+def test_a_killed_design_resumes_inside_itself_to_the_same_bytes(tmp_path, monkeypatch, adaptive: bool) -> None:
+    from morphlearn.empirical import partial as partial_cells
+    from morphlearn.ode import episode
+
+    monkeypatch.setattr(episode, "CHUNK", 16)
+    monkeypatch.setattr(partial_cells, "CHECKPOINT_S", 0.0)
+    opts = SweepOptions(adaptive_weights=adaptive)
+    w = weights(5)
+    whole = evaluate_design(*CANONICAL, w, BODY, options=opts)
+    path = tmp_path / "design.partial.npz"
+
+    def kill(done: int, total: int) -> None:
+        if done >= 32:
+            raise KeyboardInterrupt
+
+    with pytest.raises(KeyboardInterrupt):
+        evaluate_design(*CANONICAL, w, BODY, progress=kill, options=opts, partial=path)
+    assert path.is_file()
+    ran = []
+    real = episode.run
+    monkeypatch.setattr(episode, "run", lambda *a, **k: ran.append(len(a[3])) or real(*a, **k))
+    resumed = evaluate_design(*CANONICAL, w, BODY, options=opts, partial=path)
+    simulated = int((whole.status != 4).sum())
+    assert sum(ran) == simulated - 32  # the 32 episodes done before the kill are not run again
+    for f in ("first_time", "min_dist", "status"):
+        assert np.array_equal(getattr(resumed, f), getattr(whole, f), equal_nan=f != "status")

@@ -6,19 +6,25 @@ models' ``evaluate_design``, with the levers that are exact or validated here.
 - ``options.adaptive_weights``: the adaptive weight grid (:func:`morphlearn.empirical.refine.refine_waves`),
   its miss rate measured at 121 x 121 against exhaustive runs (docs/ode.md).
 - ``options.early_stop`` (the reach bound) is refused: its bound was derived for the pybullet body.
+
+A design resumes inside itself (``partial``, :mod:`morphlearn.empirical.partial`): at the paper's
+121 x 121 weights a design is about half an hour of one core, too long a unit to lose to a kill.
 """
 
 from __future__ import annotations
 
+import time
 from collections.abc import Callable
+from pathlib import Path
 
 import numpy as np
 
+from morphlearn.empirical import partial as partial_cells
 from morphlearn.empirical.options import SweepOptions
 from morphlearn.empirical.params import EmpiricalParams
 from morphlearn.empirical.refine import refine_waves
 from morphlearn.ode.core import run
-from morphlearn.results import STATUS_INFERRED, STATUS_NONFINITE, STATUS_OK, DesignResult
+from morphlearn.results import STATUS_INFERRED, STATUS_NONFINITE, DesignResult
 
 Point = tuple[float, float]
 #: Episodes per C call: progress is reported between calls; results do not depend on it.
@@ -32,42 +38,61 @@ def evaluate_design(
     params: EmpiricalParams,
     progress: Callable[[int, int], None] | None = None,
     options: SweepOptions | None = None,
+    partial: Path | None = None,
 ) -> DesignResult:
-    """All (env, w1, w2) episodes of one design; arrays (4, m, m) [env, i_w1, i_w2]."""
+    """All (env, w1, w2) episodes of one design; arrays (4, m, m) [env, i_w1, i_w2].
+
+    ``partial``: a file keeping the episodes done so far (saved every ``CHECKPOINT_S`` seconds and
+    when the design stops on an error or a kill); a design resumes from it without simulating them
+    again, to the same bytes (the adaptive grid chooses cells from outcomes alone). The caller
+    removes it once the design's result is stored."""
     options = options or SweepOptions()
     if options.early_stop:
         raise ValueError("early_stop (the reach bound) is not available in the ode model; allowed: false")
     w = np.asarray(weights, dtype=np.float64)
     m = len(w)
-    first = np.full((4, m, m), np.nan)
-    dist = np.full((4, m, m), np.nan)
-    status = np.full((4, m, m), STATUS_OK, dtype=np.int8)
+    ident = partial_cells.identity(l1, l2, w, params, options) if partial is not None else ""
+    cells = partial_cells.load(partial, ident, (4, m, m)) if partial is not None else None
+    if cells is None:
+        cells = partial_cells.Cells.empty(m)
+    else:
+        print(f"partial design {partial}: resumed, {int(cells.simulated.sum())} episodes done", flush=True)
+    first, dist, status, have = cells.first_time, cells.min_dist, cells.status, cells.simulated
     total = 4 * m * m
     near = options.near * params.contact_distance
-    counted = 0
+    counted, saved = 0, time.monotonic()
 
-    def simulate(cells: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        nonlocal counted
-        ok = np.zeros(len(cells), bool)
-        promising = np.zeros(len(cells), bool)
-        for a in range(0, len(cells), CHUNK):
-            e, i, j = cells[a : a + CHUNK].T
+    def simulate(wave: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        nonlocal counted, saved
+        todo = wave[~have[tuple(wave.T)]]  # a resumed design's stored episodes are not run again
+        for a in range(0, len(todo), CHUNK):
+            e, i, j = todo[a : a + CHUNK].T
             ep, _ = run(params, l1, l2, np.stack([w[i], w[j]], 1), e)
             first[e, i, j] = np.where(ep.success, ep.first_step * params.dt, np.nan)
             dist[e, i, j] = ep.min_dist
             status[e[~ep.finite], i[~ep.finite], j[~ep.finite]] = STATUS_NONFINITE
-            ok[a : a + CHUNK] = ep.success
-            promising[a : a + CHUNK] = ep.min_dist <= near
+            have[e, i, j] = True
             counted += len(e)
             if progress is not None and counted < total:
                 progress(counted, total)
-        return ok, promising
+            if partial is not None and time.monotonic() - saved >= partial_cells.CHECKPOINT_S:
+                partial_cells.save(partial, ident, cells)
+                saved = time.monotonic()
+        e, i, j = wave.T
+        return ~np.isnan(first[e, i, j]), dist[e, i, j] <= near
 
-    if options.adaptive_weights:
-        sim = refine_waves(m, 4, simulate, options.stride)
-        status[~sim] = STATUS_INFERRED
-    else:
-        simulate(np.argwhere(np.ones((4, m, m), bool)))
+    try:
+        if options.adaptive_weights:
+            sim = refine_waves(m, 4, simulate, options.stride)
+            status[~sim] = STATUS_INFERRED
+            first[~sim] = np.nan  # a partial file may hold cells this path never asks for
+            dist[~sim] = np.nan
+        else:
+            simulate(np.argwhere(np.ones((4, m, m), bool)))
+    except BaseException:  # Ctrl-C, SIGTERM turned into an exception, an error: keep what is done
+        if partial is not None and have.any():
+            partial_cells.save(partial, ident, cells)
+        raise
     if progress is not None:
         progress(total, total)
     return DesignResult(first_time=first, min_dist=dist, status=status)

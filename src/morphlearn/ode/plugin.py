@@ -25,6 +25,7 @@ class Ode(Physics):
     engine_label = "ODE"
     env_file = "envs/empirical.yaml"
     default_morphology = "config/authors_body.yaml"
+    resumes_inside_design = True  # ~30 core-minutes a design at 121 x 121: resume inside it
 
     def parse(self, sec: Mapping[str, Any], shared: Shared) -> Any:
         from morphlearn.config import ConfigError
