@@ -75,6 +75,17 @@ OVERFLOW = """() => {
 }"""
 
 
+#: Per figure (maps, design, trajectories, engines): whether its canvas on the page holds a drawing,
+#: not a blank or unsized canvas (a sample of its pixels is not all one colour).
+PAINTED = f"""() => {CANVASES}.filter((c, i) => i % 2 === 0).map(c => {{
+  if (!c.width || !c.height) return false;
+  const d = c.getContext('2d').getImageData(0, 0, c.width, c.height).data;
+  for (let k = 4; k < d.length; k += 4 * 97)
+    if (d[k] !== d[0] || d[k + 1] !== d[1] || d[k + 2] !== d[2]) return true;
+  return false;
+}})"""
+
+
 def _need_browser() -> None:
     why = None
     if not Path(CHROMIUM).is_file():
@@ -157,9 +168,10 @@ class Page:
             self.done(180)
         except Exception:
             raise AssertionError(f"the app did not render; voila log:\n{self.log.read_text()[-3000:]}") from None
-        n = self.page.evaluate(f"{CANVASES}.filter(c => c.width > 0 && c.height > 0).length")
-        assert n >= 6, f"{n} drawn canvases"  # maps, design, trajectories (+ engines)
-        return time.perf_counter() - t0
+        t = time.perf_counter() - t0
+        painted = self.page.evaluate(PAINTED)  # at once: "done" must mean drawn
+        assert len(painted) == 4 and all(painted), f"status done, figures painted: {painted}"
+        return t
 
     def done(self, timeout_s: float = 120) -> None:
         self.page.locator(".ml-status [data-stage='done']").wait_for(timeout=timeout_s * 1000)
@@ -169,6 +181,9 @@ class Page:
 
     def matrix(self) -> str:  # the overlap matrix figure's pixels, as the page shows them
         return self.page.evaluate(f"{CANVASES}[2].toDataURL()")
+
+    def figures(self) -> list[str]:  # every figure's pixels: maps, design, trajectories, engines
+        return self.page.evaluate(f"{CANVASES}.filter((c, i) => i % 2 === 0).map(c => c.toDataURL())")
 
     def box(self, figure: int) -> list[float]:
         return self.page.evaluate(
@@ -193,6 +208,7 @@ class Page:
         self.done()
         self.page.wait_for_timeout(300)
         before, was = self.matrix(), self.design()
+        figures = self.figures()
         t0 = time.perf_counter()
         action()
         changed = None
@@ -208,6 +224,9 @@ class Page:
             if stage == "done" and design != was:
                 t_done = time.perf_counter() - t0
                 assert changed is not None, f"status done after {t_done:.2f} s, the matrix on the page unchanged"
+                # and every figure is the new design's: maps (the marker), matrix, trajectories, engines
+                same = [k for k, (a, b) in enumerate(zip(figures, self.figures(), strict=True)) if a == b]
+                assert not same, f"status done after {t_done:.2f} s, figures {same} unchanged on the page"
                 break
             assert time.perf_counter() - t0 < 120, "no update within 120 s"
             self.page.wait_for_timeout(15)
@@ -280,8 +299,10 @@ def test_explorer_on_a_laptop_screen(voila: tuple[str, Path], tmp_path: Path, ca
             first = ui.design()
             # hover: the design under the mouse, its sensors and metrics
             b = ui.box(0)
+            t0 = time.perf_counter()
             ui.page.mouse.move(b[0] + 0.3 * b[2], b[1] + 0.5 * b[3])
             ui.page.locator(".ml-hover [data-hover]").wait_for(timeout=30_000)
+            t_hover = time.perf_counter() - t0
             hover = ui.page.locator(".ml-hover").inner_text()
             hovered = int(ui.page.locator(".ml-hover [data-hover]").get_attribute("data-hover"))
             x1, y1, x2, y2 = (float(v) for v in GRID.coords(hovered))
@@ -347,7 +368,7 @@ def test_explorer_on_a_laptop_screen(voila: tuple[str, Path], tmp_path: Path, ca
     with capsys.disabled():
         print(
             f"\nexplorer at 1366 x 768: {', '.join(map(str, shots))}\n  page loaded and drawn in {loaded:.1f} s; "
-            f"figure widths {fit['figures']} px in {fit['vw']} px; hover: {hover!r}\n"
+            f"figure widths {fit['figures']} px in {fit['vw']} px; hover in {t_hover:.2f} s: {hover!r}\n"
             f"  click to new matrix on the page / to status done: sensor dropdown (design {expected}, live 41 x 41) "
             f"{live['pixels_s']:.2f} / {live['done_s']:.2f} s (kernel: {server!r}); top-N row (design {pick}, "
             f"bundle 121 x 121) {top['pixels_s']:.2f} / {top['done_s']:.2f} s; map click (design "
