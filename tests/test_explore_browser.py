@@ -318,7 +318,7 @@ def test_explorer_on_a_laptop_screen(voila: tuple[str, Path], tmp_path: Path, ca
             query = urllib.parse.parse_qs(urllib.parse.urlparse(ui.page.url).query)
             assert query["design"] == [str(expected)] and query["source"] == ["theory (paper)"], ui.page.url
             assert query["metric"] == ["M_L"], ui.page.url
-            # the top-N table: search, then pick the second row (a design the bundle holds: 121 x 121)
+            # the top-N table: search, then pick its second row
             ui.page.locator(".ml-search input").fill("l1(0.5,0.5)")
             ui.page.wait_for_function(
                 "() => Array.from(document.querySelectorAll('.ml-top option')).every(o => o.text.includes('0.5,0.5'))"
@@ -370,8 +370,8 @@ def test_explorer_on_a_laptop_screen(voila: tuple[str, Path], tmp_path: Path, ca
             f"\nexplorer at 1366 x 768: {', '.join(map(str, shots))}\n  page loaded and drawn in {loaded:.1f} s; "
             f"figure widths {fit['figures']} px in {fit['vw']} px; hover in {t_hover:.2f} s: {hover!r}\n"
             f"  click to new matrix on the page / to status done: sensor dropdown (design {expected}, live 41 x 41) "
-            f"{live['pixels_s']:.2f} / {live['done_s']:.2f} s (kernel: {server!r}); top-N row (design {pick}, "
-            f"bundle 121 x 121) {top['pixels_s']:.2f} / {top['done_s']:.2f} s; map click (design "
+            f"{live['pixels_s']:.2f} / {live['done_s']:.2f} s (kernel: {server!r}); top-N row (design {pick}) "
+            f"{top['pixels_s']:.2f} / {top['done_s']:.2f} s; map click (design "
             f"{clicked['design']}) {clicked['pixels_s']:.2f} / {clicked['done_s']:.2f} s; go to best M_L (design "
             f"{held['design']}) {held['pixels_s']:.2f} / {held['done_s']:.2f} s; controller {w_after}"
         )
