@@ -412,6 +412,20 @@ def test_shared_url_and_engines_side_by_side(
             assert ui.design() == str(SHARED_DESIGN)
             assert f"{SHARED_DESIGN}: l1 (-0.5, 0.5), l2 (0.5, -0.5)" in ui.page.locator(".ml-info").inner_text()
             assert "MuJoCo" in ui.page.locator(".ml-engines").inner_text()
+            # the window made a laptop's: the figures follow (the page reports its width, the kernel
+            # resizes them and sends them again before it says done)
+            ui.page.set_viewport_size({"width": 1366, "height": 768})
+            t0 = time.perf_counter()
+            ui.page.wait_for_function(f"() => {CANVASES}[0].getBoundingClientRect().width < 1000", timeout=60_000)
+            ui.page.wait_for_function(
+                "() => { const s = document.querySelector('.ml-status [data-stage]'); "
+                "return s?.dataset.stage === 'done' && "
+                "/figures sized to the page \\(13\\d\\d pixels\\)/.test(s.innerText); }",
+                timeout=60_000,
+            )
+            t_resize = time.perf_counter() - t0
+            assert all(ui.page.evaluate(PAINTED))
+            small = _assert_fits(ui, "1920 x 1080 made 1366 x 768")
             # a link with a typo says so, and the page opens
             bad = ui.open(url + "?design=abc")
             assert bad > 0 and "URL design='abc'" in ui.page.locator(".ml-info").inner_text()
@@ -421,5 +435,6 @@ def test_shared_url_and_engines_side_by_side(
     with capsys.disabled():
         print(
             f"\nexplorer at 1920 x 1080: {', '.join(map(str, shots))}\n  shared view loaded and drawn in "
-            f"{loaded:.1f} s; figure widths {fit['figures']} px in {fit['vw']} px"
+            f"{loaded:.1f} s; figure widths {fit['figures']} px in {fit['vw']} px; the window narrowed to 1366: "
+            f"figures {small['figures']} px, done in {t_resize:.2f} s"
         )
