@@ -257,9 +257,8 @@ function render({ model, el }) {
   const report = () => {
     const box = el.getBoundingClientRect().width;
     const w = Math.floor(Math.min(box > 0 ? box : 1e9, document.documentElement.clientWidth));
-    if (w !== model.get("width") || window.innerHeight !== model.get("height")) {
+    if (w !== model.get("width")) {
       model.set("width", w);
-      model.set("height", window.innerHeight);
       model.save_changes();
     }
   };
@@ -305,13 +304,12 @@ export default { render };
 
 
 class Bridge(anywidget.AnyWidget):
-    """The page side of the app (a few lines of JavaScript, no visible element): the page's width
-    and height, the URL's query (written when ``sync_url``: under Voila, not in JupyterLab, whose
+    """The page side of the app (a few lines of JavaScript, no visible element): the app's width
+    on the page, the URL's query (written when ``sync_url``: under Voila, not in JupyterLab, whose
     URL is its own), the images' arrival (``drawn`` echoes ``token``) and file downloads."""
 
     _esm = _BRIDGE_ESM
     width = traitlets.Int(0).tag(sync=True)
-    height = traitlets.Int(0).tag(sync=True)
     query = traitlets.Unicode("").tag(sync=True)
     sync_url = traitlets.Bool(False).tag(sync=True)
     token = traitlets.Int(0).tag(sync=True)
