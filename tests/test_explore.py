@@ -3,6 +3,7 @@
 
 from __future__ import annotations
 
+import html
 import json
 import shutil
 import subprocess
@@ -208,3 +209,189 @@ def test_notebook_runs_headless_with_parameters(tmp_path: Path) -> None:
     ref, kernel = rep["first_success"], rep["kernel_first_success"]
     assert [r is None for r in ref] == [k is None for k in kernel]
     assert all(r is None or abs(r - k) < 1e-3 * k for r, k in zip(ref, kernel, strict=True))
+
+
+# -- the laptop-usable explorer (issue 41, Build item 5) -----------------------------------------------
+def test_top_table_ranks_and_searches(paper: explore.Explorer) -> None:
+    top = paper.top("M_L", 10)
+    assert len(top) == 10 and top["rank"].iloc[0] == 1 and top.design.iloc[0] == paper.best("M_L")
+    for r in top.itertuples():  # the table's rank is the explorer's (ties share one)
+        assert r.rank == paper.rank(int(r.design), "M_L")
+    assert (top.M_L.diff().dropna() <= 0).all()
+    by_cf = paper.top("M_CF", 5)
+    assert by_cf.design.iloc[0] == paper.best("M_CF") and (by_cf.M_CF.diff().dropna() <= 0).all()
+    # search: a design number, a sensor position (spaces ignored)
+    assert list(paper.top("M_L", 5, "design 2531:").design) == [2531]
+    hits = paper.top("M_L", 1000, "l1 (0.5, 0.5)")
+    assert len(hits) == 81 and ((hits.l1x == 0.5) & (hits.l1y == 0.5)).all()
+    assert paper.top("M_L", 5, "no such design").empty
+    with pytest.raises(explore.ExploreError, match="allowed: M_L, M_CF"):
+        paper.top("generalists")
+
+
+def test_hover_names_the_design_its_sensors_and_metrics(paper: explore.Explorer) -> None:
+    import matplotlib.pyplot as plt
+
+    from morphlearn import explore_app
+
+    d = paper.design_of((0.5, 0.5), (0.5, -0.5))
+    row = paper.row(d)
+    text = paper.hover(d)
+    assert text.startswith(f"design {d}: l1 (0.5, 0.5), l2 (0.5, -0.5): M_L {row.M_L:.4g} (rank ")
+    assert f"M_CF {row.M_CF:.4g} (rank {paper.rank(d, 'M_CF')})" in text
+    fig = plt.figure()
+    explore_app.draw_maps(fig, paper)
+    col, row_ = paper.map_cell(d)
+    for ax in fig.axes[:2]:  # ipympl's read-out under the mouse: the same text, not "(x, y) = (, )"
+        assert ax.format_coord(col, row_) == text
+    assert fig.axes[0].format_coord(-5, -5) == ""
+    plt.close(fig)
+    emp = explore.Explorer(explore.open_source(explore.Source(RESULTS / "paper", "empirical")))
+    assert "not simulated in this bundle (2 designs are)" in emp.hover(0)
+
+
+def test_view_round_trips_through_the_url() -> None:
+    v = explore.View("theory (paper)", 2531, "M_CF", (0.6, 0.98333333))
+    q = v.query()
+    assert "source=theory+%28paper%29" in q and "design=2531" in q and "metric=M_CF" in q
+    back = explore.parse_view("?" + q)
+    assert (back.source, back.design, back.metric) == ("theory (paper)", 2531, "M_CF")
+    assert back.w == pytest.approx((0.6, 0.983333))
+    assert explore.parse_view("") == explore.View() and explore.parse_view(None) == explore.View()
+    for bad, msg in (("design=x", "design='x'"), ("metric=M_X", "allowed: M_L, M_CF"), ("w=1", "two numbers")):
+        with pytest.raises(explore.ExploreError, match=msg):
+            explore.parse_view(bad)
+
+
+def test_export_holds_the_shown_design(paper: explore.Explorer) -> None:
+    land = paper.landscape(paper.best("M_L"))
+    rows = explore.export_csv(land).splitlines()
+    m = len(land.weights)
+    assert len(rows) == 1 + m * m and rows[0].split(",")[:4] == ["design", "w1", "w2", "overlap"]
+    i, j = 17, 100
+    cells = rows[1 + i * m + j].split(",")
+    assert int(cells[0]) == land.design and float(cells[1]) == pytest.approx(land.weights[i])
+    assert float(cells[2]) == pytest.approx(land.weights[j]) and int(cells[3]) == land.overlap[i, j]
+    assert [int(c) for c in cells[4:8]] == [int(s) for s in land.success[:, i, j]]
+    data = json.loads(explore.export_json(paper, land, (0.6, 0.5), "theory (paper)"))
+    assert data["design"] == land.design and data["results"] == "theory (paper)" and data["engine"] == "theory"
+    assert np.array_equal(np.array(data["overlap"]), land.overlap) and data["controller"] == [0.6, 0.5]
+    assert data["table"]["generalists"] == int(np.array(data["overlap"]).__eq__(4).sum())
+    ft = np.array(data["first_time"], dtype=float)
+    assert np.array_equal(np.isnan(ft), np.isnan(land.first_time))
+
+
+def test_nearest_design_across_grids(paper: explore.Explorer, survey: explore.Explorer) -> None:
+    d = paper.design_of((0.5, 0.25), (-0.5, 0.0))
+    assert survey.nearest_design(*paper.coords(d)) == (survey.design_of((0.5, 0.25), (-0.5, 0.0)), True)
+    near, exact = survey.nearest_design((0.375, 0.5), (0.0, 0.125))
+    assert not exact and survey.coords(near)[1] in ((0.0, 0.0), (0.0, 0.25))
+
+
+def test_layout_fits_the_page_and_nothing_is_clipped_inside_a_figure(paper: explore.Explorer) -> None:
+    """The figures' sizes for a page (app) width: none wider than it; drawn at those sizes, every
+    axes (maps, colour bars, matrix, trajectories) inside its figure."""
+    import matplotlib.pyplot as plt
+
+    from morphlearn import explore_app
+
+    land = paper.landscape(paper.best("M_L"))
+    w = paper.default_controller(land)
+    trs = paper.trajectories(land.design, w)
+    for page in (1000, 1336, 1890):
+        sizes = explore_app.layout_sizes(page)
+        assert all(s[0] <= page for s in sizes.values()), (page, sizes)
+        if page >= 1100:  # the maps and the side bar side by side
+            assert sizes["maps"][0] + sizes["side"][0] + 16 <= page
+        for name, draw in (
+            ("maps", lambda f: explore_app.draw_maps(f, paper)),
+            ("design", lambda f: explore_app.draw_design(f, paper, land, land.design, w)),
+            ("traj", lambda f: explore_app.draw_trajectories(f, paper, land.design, w, trs, 4)),
+        ):
+            fig = plt.figure(figsize=explore_app._inches(sizes[name]), layout=None if name == "traj" else "constrained")
+            draw(fig)
+            fig.canvas.draw()
+            r = fig.canvas.get_renderer()
+            box = fig.bbox
+            for ax in fig.axes:
+                tb = ax.get_tightbbox(r)
+                assert tb.x0 >= box.x0 - 1 and tb.x1 <= box.x1 + 1, (page, name, ax.get_label(), tb, box)
+                assert tb.y0 >= box.y0 - 1 and tb.y1 <= box.y1 + 1, (page, name, ax.get_label(), tb, box)
+                for leg in fig.legends:  # the trajectories' legend: inside, clear of the x label
+                    lb = leg.get_window_extent(r)
+                    assert lb.y0 >= box.y0 and not lb.overlaps(tb), (page, name, lb, tb)
+            plt.close(fig)
+
+
+def test_app_keeps_the_design_across_sources_and_opens_a_shared_view() -> None:
+    from morphlearn import explore_app
+
+    app = explore_app.App(RESULTS, url_query="source=theory+%28paper%29&design=720&metric=M_CF&w=0.6,0.95")
+    assert app.design == 720 and app.w == pytest.approx((0.6, 0.95)) and app.w_rank_by.value == "M_CF"
+    assert app.w_top.options[0][1] == app.ex.best("M_CF")  # the top-N table ranks by the URL's metric
+    assert explore.parse_view(app.bridge.query).design == 720
+    # the bundle's models side by side: design 720 is in all three
+    rows = {r["engine"]: r for r in app.engines()}
+    assert set(rows) == {"theory", "pybullet", "MuJoCo"}
+    assert all(r["M_L"] is not None and r["landscape"] is not None for r in rows.values())
+    assert len(app.fig_engines.axes) == 4  # three matrices and their colour bar
+    assert "rank 1 of 2" in explore_app.engines_html(app.engines(), "paper")
+    # another source of the same bundle: the same design
+    app.w_source.value = "mujoco (paper)"
+    assert app.design == 720 and app.land.source == "bundle"
+    assert explore.parse_view(app.bridge.query) == explore.View("mujoco (paper)", 720, "M_CF", app.w)
+    # a bundle with a coarser grid: the nearest design, said so
+    app.w_source.value = "theory (paper)"
+    app.select(app.ex.design_of((0.375, 0.5), (0.0, 0.125)))
+    app.w_source.value = "theory (survey)"
+    assert app.ex.n == 5 and "is not on this bundle's 5 x 5 grid" in html.unescape(app.w_info.value)
+    # the top-N table picks a design; its search narrows it
+    app.w_search.value = "l1 (0.5, 0.5)"
+    assert app.w_top.options and all("0.5,0.5" in label.split()[2] for label, _ in app.w_top.options)
+    app.w_top.value = app.w_top.options[2][1]
+    assert app.design == app.w_top.options[2][1]
+    # a link with a typo: said so, the default view opens
+    bad = explore_app.App(RESULTS, url_query="design=abc")
+    assert "URL design='abc'" in html.unescape(bad.w_info.value) and bad.design == bad.ex.best("M_L")
+
+
+def test_status_done_only_when_the_page_has_drawn(tmp_path: Path) -> None:
+    """With a page, an update says "sent" until the page echoes the token sent after its images;
+    an image that went by the page's own request (draw_idle) is sent again first."""
+    from morphlearn import explore_app
+
+    app = explore_app.App(RESULTS, source="theory (paper)")
+    app._has_page = lambda: True  # as under ipympl
+    sent: list[dict] = []
+    app.bridge.send = lambda msg: sent.append(msg)  # the page's download
+    app.select(app.ex.best("M_CF"))
+    assert "data-stage='sent'" in app.w_status.value and app.timings[-1].get("page_s") is None
+    token = app.bridge.token
+    app.bridge.drawn = token - 1  # an older update's echo: still waiting
+    assert "data-stage='sent'" in app.w_status.value
+    app._unsettled = True  # an image went by draw_idle: one more round
+    app.bridge.drawn = token
+    assert "data-stage='sent'" in app.w_status.value and app.bridge.token == token + 1
+    app.bridge.drawn = token + 1
+    assert "data-stage='done'" in app.w_status.value and app.timings[-1]["page_s"] > 0
+    # export: a download of the shown design, by the bridge
+    text = app.export("csv")
+    assert sent[-1]["download"] == f"morphlearn_theory_paper_design{app.design}.csv" and sent[-1]["text"] == text
+    assert json.loads(app.export("json"))["design"] == app.design and sent[-1]["mime"] == "application/json"
+
+
+def test_explorer_extra_is_pinned_in_the_lock() -> None:
+    """pyproject's ``explorer`` extra names the explorer's libraries; tools/setup.sh installs them
+    from requirements.lock, so each must be pinned there (and the explorer's conda env too)."""
+    import tomllib
+
+    extra = tomllib.loads((ROOT / "pyproject.toml").read_text())["project"]["optional-dependencies"]["explorer"]
+    lock = {
+        line.split("==")[0].lower()
+        for line in (ROOT / "requirements.lock").read_text().splitlines()
+        if "==" in line and not line.startswith("#")
+    }
+    assert {"ipywidgets", "ipympl", "anywidget", "voila"} <= set(extra)
+    assert [p for p in extra if p.lower() not in lock] == []
+    env = (ROOT / "envs" / "explorer.yaml").read_text()
+    assert all(f"- {p}==" in env for p in ("ipywidgets", "ipympl", "anywidget", "voila"))

@@ -14,9 +14,12 @@ upwards, in the blocks as inside them.
 
 from __future__ import annotations
 
+import csv
+import io
 import json
 import math
 import time
+import urllib.parse
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -39,6 +42,10 @@ LIVE_WEIGHTS = (41, 121)
 DEFAULT_CONTROLLER: data.Point = data.PAPER_CANONICAL_CONTROLLERS[1]
 
 
+#: What the maps and the top-N table rank by.
+METRIC_NAMES = ("M_L", "M_CF")
+
+
 class ExploreError(ValueError):
     """Bad input to the explorer; the message names the value and what is allowed."""
 
@@ -53,6 +60,17 @@ class Source:
     @property
     def label(self) -> str:
         return f"{self.model} ({self.bundle.name})"
+
+    @property
+    def engine(self) -> str:
+        """The model as prose names it: its physics engine (pybullet, MuJoCo, ODE) or the theory."""
+        return engine_label(self.model)
+
+
+def engine_label(model: str) -> str:
+    """``theory`` stays; a physics model is named by its engine (``empirical`` is pybullet's)."""
+    m = MODELS.get(model)
+    return (getattr(m, "engine_label", "") or getattr(m, "engine", "") or model) if model != REFERENCE else model
 
 
 def default_results_dir(start: str | Path | None = None) -> Path:
@@ -79,16 +97,22 @@ def sources(results_dir: str | Path = "results") -> list[Source]:
     return out
 
 
+#: Bundles checked in this process: a bundle holds several models and the explorer opens each (the
+#: check reads every file of the bundle, ~1 s for the paper bundle), so one check per bundle.
+_VERIFIED: set[Path] = set()
+
+
 def open_source(src: Source, *, verify: bool = True) -> data.ModelResults:
     """A model's results from a bundle, after checking every file of the bundle against its
     SHA-256 in ``bundle.json`` (a damaged or edited bundle is refused, naming the first problem);
     the thresholds are the ones its metrics were computed with (``metrics.provenance.json``)."""
     if src.model not in MODELS:
         raise ExploreError(f"model {src.model!r}: allowed: {', '.join(MODELS)}")
-    if verify:
+    if verify and src.bundle.resolve() not in _VERIFIED:
         problems = bundle_check.check(src.bundle)
         if problems:
             raise bundlemod.BundleError(f"{src.bundle}: {len(problems)} problem(s), first: {problems[0]}")
+        _VERIFIED.add(src.bundle.resolve())
     prov = json.loads((src.bundle / src.model / "metrics.provenance.json").read_text())
     res = data.load_results(src.bundle, src.model, prov["config"]["thresholds"])
     if res is None:
@@ -133,6 +157,7 @@ class Explorer:
         self.table = res.table.set_index("design", drop=False)
         self._held = {int(d): i for i, d in enumerate(res.ds["design"].values)}
         self._cache: dict[tuple[int, int], Landscape] = {}
+        self._text: pd.Series | None = None
         sci = res.science
         # The theory model's parameters (live evaluation, trajectories); the empirical model has none.
         self.theory_params: dict[str, Any] | None = sci.get("theory") if res.model == REFERENCE else None
@@ -163,6 +188,15 @@ class Explorer:
         c = self.grid.coords(self.check_design(design))
         return (float(c[0]), float(c[1])), (float(c[2]), float(c[3]))
 
+    def nearest_design(self, l1: data.Point, l2: data.Point) -> tuple[int, bool]:
+        """The design of this grid whose sensors are nearest to ``l1`` and ``l2`` (each coordinate
+        to the nearest grid value), and whether it is exactly that placement: what a design of one
+        bundle becomes in another with a coarser or finer grid."""
+        ax = self.axis
+        snap = [float(ax[int(np.argmin(np.abs(ax - v)))]) for v in (*l1, *l2)]
+        d = self.grid.index_of((snap[0], snap[1]), (snap[2], snap[3]))
+        return int(d), bool(np.allclose(snap, [*l1, *l2]))
+
     def mirror(self, design: int) -> int:
         return int(self.grid.mirror(self.check_design(design)))
 
@@ -183,6 +217,36 @@ class Explorer:
 
     def best(self, by: str) -> int:
         return int(self.res.best(by).design)
+
+    def top(self, by: str, n: int = 25, query: str = "") -> pd.DataFrame:
+        """The table's designs ranked by ``by`` (best first; ``rank``: 1 + the designs strictly
+        better, so ties share a rank, as :meth:`rank`), those whose :func:`design_text` contains
+        ``query`` (spaces ignored: ``"2531"``, ``"(0.5,-0.25)"``, ``"l2 (0,0)"``), the first ``n``."""
+        if by not in METRIC_NAMES:
+            raise ExploreError(f"rank by {by!r}: allowed: {', '.join(METRIC_NAMES)}")
+        t = metrics.rank_designs(self.res.table, by).copy()
+        higher = metrics.METRICS[by].higher_is_better
+        t["rank"] = t[by].rank(method="min", ascending=not higher).astype(int)
+        q = "".join(query.split())
+        if q:
+            t = t[self._texts().loc[t.design].str.contains(q, regex=False).to_numpy()]
+        return t.head(n)[["rank", "design", "l1x", "l1y", "l2x", "l2y", "M_L", "M_CF"]].reset_index(drop=True)
+
+    def _texts(self) -> pd.Series:
+        """:func:`design_text` of every design in the table, without spaces (searched), cached."""
+        if self._text is None:
+            d = self.res.table.design.to_numpy()
+            self._text = pd.Series(["".join(design_text(self, int(x)).split()) for x in d], index=d)
+        return self._text
+
+    def hover(self, design: int) -> str:
+        """One line for the design under the mouse: its sensors, M_L and M_CF with ranks."""
+        row = self.row(design)
+        text = design_text(self, design)
+        if row is None:
+            return f"{text}: not simulated in this bundle ({len(self.res.table)} designs are)"
+        ranks = ", ".join(f"{by} {float(row[by]):.4g} (rank {self.rank(design, by)})" for by in METRIC_NAMES)
+        return f"{text}: {ranks} of {len(self.res.table)}"
 
     # -- the map ---------------------------------------------------------------------------------
     def map_image(self, metric: str) -> np.ndarray:
@@ -289,6 +353,108 @@ class Explorer:
             else ReferenceTrajectory(tr.first_time, tr.min_dist, tr.status, np.zeros(1), np.array([[*starts[k], 0.0]]))
             for k, tr in enumerate(trs)
         ]
+
+
+def design_text(ex: Explorer, design: int) -> str:
+    """``design 2531: l1 (-0.125, 0), l2 (-0.25, -0.25)``: what the hover, the top-N table and its
+    search show."""
+    (x1, y1), (x2, y2) = ex.coords(design)
+    return f"design {design}: l1 ({x1:g}, {y1:g}), l2 ({x2:g}, {y2:g})"
+
+
+# -- the view in the URL ---------------------------------------------------------------------------
+@dataclass(frozen=True)
+class View:
+    """What the URL holds (``?source=theory+(paper)&design=2531&metric=M_L&w=0.6,0.983``): the
+    results source, the design (an index of that source's grid), what the top-N table ranks by and
+    the controller; None: the default."""
+
+    source: str | None = None
+    design: int | None = None
+    metric: str = METRIC_NAMES[0]
+    w: tuple[float, float] | None = None
+
+    def query(self) -> str:
+        q: dict[str, str] = {}
+        if self.source is not None:
+            q["source"] = self.source
+        if self.design is not None:
+            q["design"] = str(self.design)
+        q["metric"] = self.metric
+        if self.w is not None:
+            q["w"] = f"{self.w[0]:.6g},{self.w[1]:.6g}"
+        return urllib.parse.urlencode(q)
+
+
+def parse_view(query: str | None) -> View:
+    """A :class:`View` from a URL's query string (with or without the ``?``); ExploreError names
+    the bad value (a shared link with a typo should say so, not open something else)."""
+    q = urllib.parse.parse_qs((query or "").lstrip("?"), keep_blank_values=False)
+
+    def one(k: str) -> str | None:
+        v = q.get(k)
+        return None if not v else v[-1]
+
+    design = one("design")
+    metric = one("metric") or METRIC_NAMES[0]
+    w = one("w")
+    if design is not None and not design.isdigit():
+        raise ExploreError(f"URL design={design!r}: allowed: a design index (0, 1, ...)")
+    if metric not in METRIC_NAMES:
+        raise ExploreError(f"URL metric={metric!r}: allowed: {', '.join(METRIC_NAMES)}")
+    pair = None
+    if w is not None:
+        try:
+            a, b = (float(v) for v in w.split(","))
+        except ValueError:
+            raise ExploreError(f"URL w={w!r}: allowed: two numbers, w1,w2") from None
+        pair = (a, b)
+    return View(one("source"), None if design is None else int(design), metric, pair)
+
+
+# -- export ----------------------------------------------------------------------------------------
+def export_json(ex: Explorer, land: Landscape, w: tuple[float, float] | None, source: str = "") -> str:
+    """The shown design as JSON: :func:`describe` (metrics, ranks, mirror image), where it came from
+    (the source's label, model, engine), the controller and the outcome arrays (weights, overlap,
+    success and first-success time per environment, ``null``: never)."""
+    out = {
+        "results": source,  # describe()'s "source" is where the arrays came from: bundle or live
+        "model": ex.res.model,
+        "engine": engine_label(ex.res.model),
+        **describe(ex, land),
+        "controller": None if w is None else list(w),
+        "environments_deg": list(gridmod.ENV_ANGLES_DEG),
+        "weights": [round(float(v), 12) for v in land.weights],  # 0.65, not 0.6499999999999999
+        "overlap": land.overlap.astype(int).tolist(),
+        "success": land.success.astype(int).tolist(),
+        "first_time": [[[None if math.isnan(v) else float(v) for v in r] for r in env] for env in land.first_time],
+    }
+    return json.dumps(out, default=float) + "\n"
+
+
+def export_csv(land: Landscape) -> str:
+    """The shown design's outcomes, one row per controller: w1, w2, the overlap (environments
+    solved) and per environment success (0/1) and first-success time (empty: never)."""
+    buf = io.StringIO()
+    out = csv.writer(buf, lineterminator="\n")
+    angles = gridmod.ENV_ANGLES_DEG
+    out.writerow(
+        ["design", "w1", "w2", "overlap", *(f"success_{a}" for a in angles), *(f"first_time_{a}" for a in angles)]
+    )
+    ov, s, ft, w = land.overlap, land.success, land.first_time, land.weights
+    for i in range(len(w)):
+        for j in range(len(w)):
+            out.writerow(
+                [
+                    land.design,
+                    f"{w[i]:.6g}",
+                    f"{w[j]:.6g}",
+                    int(ov[i, j]),
+                    *(int(s[k, i, j]) for k in range(len(angles))),
+                    *("" if math.isnan(ft[k, i, j]) else f"{ft[k, i, j]:.6g}" for k in range(len(angles))),
+                ]
+            )
+    return buf.getvalue()
 
 
 def warm_up() -> None:
