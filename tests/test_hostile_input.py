@@ -525,3 +525,78 @@ def test_results_dir_with_a_space_and_quote_reaches_the_figure_commands_whole(wf
     args = (wf / rd / "logs/figures/fig1.log").read_text().splitlines()
     assert args[args.index("--output-dir") + 1] == f"{rd}/figures", args
     shutil.rmtree(wf / "res ults")
+
+
+# --- results_dir: never a committed bundle (but to re-render it) nor a project folder (issue 38) ---
+
+#: What a run refused at start says is allowed (config.RESULTS_ALLOWED).
+WHERE_RESULTS_GO = "a folder of your own under results/ that is not a bundle"
+
+
+@pytest.mark.parametrize(
+    ("results_dir", "render_only", "needle"),
+    [
+        ("results/survey", False, "holds a results bundle (bundle.json)"),  # was: 7 min, 254 files in it
+        ("./results//survey/", False, "holds a results bundle (bundle.json)"),  # the same folder spelled otherwise
+        ("results/survey9-mujoco", False, "holds a results bundle (bundle.json)"),
+        ("results/survey/theory", False, "is inside the results bundle"),
+        ("results/survey/theory", True, "is inside the results bundle"),  # render-only: the bundle itself only
+        (".", False, "is the project folder or one that holds it"),
+        ("..", True, "is the project folder or one that holds it"),
+        ("docs", False, "is the project's source folder docs/"),
+        ("src/morphlearn", True, "is inside the project's source folder src/"),
+        ("config", False, "is the project's source folder config/"),
+        ("notebooks/out", False, "is inside the project's source folder notebooks/"),
+        ("benchmarks", False, "is the project's source folder benchmarks/"),
+        ("tools", False, "is the project's source folder tools/"),
+        ("tests", False, "is the project's source folder tests/"),
+        ("workflow", False, "is the project's source folder workflow/"),
+        ("envs", False, "is the project's source folder envs/"),
+    ],
+)
+def test_results_dir_refuses_bundles_and_project_folders(results_dir: str, render_only: bool, needle: str) -> None:
+    msg = _one_line_config_error({"results_dir": results_dir, "render_only": render_only})
+    assert msg.startswith(f"results_dir = {results_dir!r} {needle}") and WHERE_RESULTS_GO in msg, msg
+    assert not any(w in msg.lower() for w in ("delete", "remove", "rm ")), msg
+
+
+def test_results_dir_allows_a_new_folder_the_default_and_the_re_render_of_a_bundle() -> None:
+    for rd, render_only in (("results/my-run", False), ("results", False), ("results/survey", True)):
+        patch = {"results_dir": rd, "render_only": render_only, "figures": {"enabled": render_only}}
+        assert config.validate(config.deep_merge(_base(), patch))["results_dir"] == rd
+
+
+def test_bundle_dir_refuses_a_source_folder_and_a_folder_inside_a_bundle() -> None:
+    """bundle_dir shares the guard (config.source_folder): an absent folder under src/ was allowed."""
+    from morphlearn import bundle
+
+    made = bundle.made_by(["config/smoke.yaml", "config.yaml"], "results")
+    for target, needle in (
+        ("src/morphlearn/new-bundle", "is inside the project's source folder src/"),
+        ("results/survey/new-bundle", "is inside the results bundle"),
+    ):
+        with pytest.raises(bundle.BundleError) as e:
+            bundle.check_target(target, made)
+        assert str(e.value).startswith(f"bundle_dir = {target!r} {needle}"), e.value
+
+
+def test_workflow_refuses_a_committed_bundle_as_results_dir_before_writing(wf: Path) -> None:
+    """End to end, as the issue ran it (no render_only): refused at start, nothing written there."""
+    b = wf / "results" / "committed"
+    b.mkdir(parents=True)
+    (b / "bundle.json").write_text("{}")
+    try:
+        exe = Path(sys.executable).with_name("snakemake")
+        proc = subprocess.run(
+            [str(exe), "-n", "--cores", "1", "--configfile", "small.yaml", "--config", "results_dir=results/committed"],
+            cwd=wf,
+            capture_output=True,
+            text=True,
+            timeout=300,
+        )
+        ours = [ln for ln in proc.stderr.splitlines() if ln.startswith("morphlearn")]
+        assert proc.returncode == 2 and len(ours) == 1 and "Traceback" not in proc.stderr, proc.stderr[-2000:]
+        assert ours[0].startswith("morphlearn: config error: results_dir = 'results/committed' holds a results bundle")
+        assert sorted(p.name for p in b.iterdir()) == ["bundle.json"]
+    finally:
+        shutil.rmtree(wf / "results")

@@ -34,6 +34,7 @@ import yaml
 
 from morphlearn import __version__, metrics, provenance, store
 from morphlearn import grid as gridmod
+from morphlearn.config import bundle_holding, source_folder
 
 #: Files copied from the run's results folder, when present (paths relative to it).
 #: The learner stage's small tables (its figure and reproduction rows read them).
@@ -107,9 +108,14 @@ def check_target(bundle_dir: str | Path, made_by: dict[str, Any]) -> None:
         "allowed: an absent or empty folder, or a bundle made by this same config (its bundle.json "
         f"made_by: configs {sorted(made_by['configs'])}, results_dir {made_by['results_dir']!r}); nothing was written"
     )
-    why = None
-    if target.resolve() in (here, *here.parents) or target.resolve() in (results, *results.parents):
+    held = bundle_holding(target)
+    why = source_folder(target)  # the same guard as results_dir's (config._check_results_dir)
+    if why:
+        pass
+    elif target.resolve() in (here, *here.parents) or target.resolve() in (results, *results.parents):
         why = "is the project folder, the results folder or one that holds them"
+    elif held is not None and held != target.resolve():
+        why = f"is inside the results bundle {held}"
     elif target.is_symlink() or (target.exists() and not target.is_dir()):
         why = "is a file (or a link), not a bundle folder"
     elif target.is_dir() and any(target.iterdir()):

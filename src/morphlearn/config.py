@@ -151,7 +151,40 @@ def _check_paths(cfg: dict[str, Any]) -> None:
     check_path("mujoco.results_from", cfg.get("mujoco", {}).get("results_from"))
 
 
-def _check_results_dir(rd: str) -> None:
+#: The project's own folders (relative to the project folder, where every run starts): no run
+#: writes results or a bundle into them or below them.
+SOURCE_FOLDERS = ("benchmarks", "config", "docs", "envs", "notebooks", "profiles", "src", "tests", "tools", "workflow")
+#: Where results may go, for the messages that refuse a folder.
+RESULTS_ALLOWED = "a folder of your own under results/ that is not a bundle (e.g. results/my-run; default 'results')"
+
+
+def _is_file(p: Path) -> bool:
+    try:
+        return p.is_file()
+    except OSError:  # a name too long for the file system: nothing is there
+        return False
+
+
+def source_folder(path: str | Path) -> str | None:
+    """Why ``path`` is no place for a run's output (None when it may be): it is the project
+    folder, one that holds it, or one of the project's source folders or inside one. Shared by
+    the ``results_dir`` and the ``bundle_dir`` guards (:func:`morphlearn.bundle.check_target`)."""
+    target, here = Path(path).resolve(), Path.cwd().resolve()
+    if target in (here, *here.parents):
+        return "is the project folder or one that holds it"
+    for name in SOURCE_FOLDERS:
+        if target.is_relative_to(here / name):
+            return f"is {'' if target == here / name else 'inside '}the project's source folder {name}/"
+    return None
+
+
+def bundle_holding(path: str | Path) -> Path | None:
+    """The results bundle (a folder with ``bundle.json``) that ``path`` is or lies inside; None."""
+    target = Path(path).resolve()
+    return next((d for d in (target, *target.parents) if _is_file(d / "bundle.json")), None)
+
+
+def _check_results_dir(rd: str, render_only: bool = False) -> None:
     p = Path(rd)
     if p.resolve() == Path(p.resolve().anchor):
         raise ConfigError(
@@ -160,6 +193,18 @@ def _check_results_dir(rd: str) -> None:
         )
     if p.exists() and not p.is_dir():
         raise ConfigError(f"results_dir = {rd!r} is an existing file; allowed: a folder (or a new path)")
+    why = source_folder(p)
+    if why:
+        raise ConfigError(f"results_dir = {rd!r} {why}; allowed: {RESULTS_ALLOWED}")
+    held = bundle_holding(p)
+    # render_only re-renders exactly the bundle named (its documented command); any other run
+    # would write shards, stores and tables into a committed bundle (issue 38)
+    if held is not None and not (render_only and held == p.resolve()):
+        where = "holds a results bundle" if held == p.resolve() else f"is inside the results bundle {held}"
+        raise ConfigError(
+            f"results_dir = {rd!r} {where} (bundle.json), which a run would write into; allowed: "
+            f"render_only=True with results_dir the bundle itself to re-render it, or {RESULTS_ALLOWED}"
+        )
 
 
 def _check_analysis(a: dict[str, Any], th: dict[str, Any]) -> None:
@@ -185,7 +230,7 @@ def _check_cross(cfg: dict[str, Any]) -> None:
     """Checks across keys that need no design grid or file (those are the settings' and each
     model's: :func:`morphlearn.settings.parse`)."""
     _check_paths(cfg)
-    _check_results_dir(cfg["results_dir"])
+    _check_results_dir(cfg["results_dir"], bool(cfg.get("render_only")))
     th = cfg["theory"]
     _check_analysis(cfg["analysis"], th)
     if cfg.get("render_only") and not (cfg["figures"]["enabled"] and th.get("enabled", True)):
