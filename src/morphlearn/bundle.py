@@ -32,7 +32,7 @@ import numpy as np
 import pandas as pd
 import yaml
 
-from morphlearn import __version__, metrics, provenance, store
+from morphlearn import __version__, bounded, metrics, provenance, store
 from morphlearn import grid as gridmod
 from morphlearn.config import bundle_holding, source_folder
 
@@ -121,8 +121,8 @@ def check_target(bundle_dir: str | Path, made_by: dict[str, Any]) -> None:
     elif target.is_dir() and any(target.iterdir()):
         mpath = target / MANIFEST
         try:
-            by = json.loads(mpath.read_text()).get("made_by", {})
-        except (OSError, ValueError, AttributeError):
+            by = bounded.json_file(mpath).get("made_by", {})
+        except (ValueError, AttributeError):
             by = None
         if not isinstance(by, dict):
             why = f"holds files and no readable {MANIFEST}: the bundle rule would replace what it did not make"

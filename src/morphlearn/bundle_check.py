@@ -10,7 +10,7 @@ from pathlib import Path, PurePosixPath
 import numpy as np
 import pandas as pd
 
-from morphlearn import metrics, provenance, store
+from morphlearn import bounded, metrics, provenance, store
 from morphlearn.bundle import MANIFEST, BundleError, bundle_files
 from morphlearn.grid import ENV_ANGLES_DEG
 
@@ -44,8 +44,8 @@ def check(out_dir: str | Path, *, rows: bool = True) -> list[str]:
     if not mpath.is_file():
         return [f"{mpath}: missing"]
     try:
-        manifest = json.loads(mpath.read_text())
-    except (OSError, UnicodeDecodeError, ValueError) as e:
+        manifest = bounded.json_file(mpath)  # size and nesting bounded: one line, never a traceback
+    except ValueError as e:
         return [f"{mpath}: unreadable ({e})"]
     listed = manifest.get("files") if isinstance(manifest, dict) else None
     if not isinstance(listed, dict) or not all(isinstance(k, str) and isinstance(v, str) for k, v in listed.items()):
@@ -54,7 +54,10 @@ def check(out_dir: str | Path, *, rows: bool = True) -> list[str]:
     problems = []
     for rel, digest in listed.items():
         p = out_dir / rel
-        if not _inside(rel, p, root):
+        odd = odd_name(rel)
+        if odd:
+            problems.append(f"{mpath}: lists {shown(rel)}, {odd} (not read)")
+        elif not _inside(rel, p, root):
             problems.append(f"{mpath}: lists {rel!r}, a path outside the bundle (not read)")
         elif not p.is_file():
             problems.append(f"{p}: listed in {MANIFEST} but missing")
@@ -70,7 +73,30 @@ def check(out_dir: str | Path, *, rows: bool = True) -> list[str]:
     return problems
 
 
+#: The longest file name, and path, a Linux file system holds (bytes): longer ones raise OSError.
+NAME_MAX, PATH_MAX = 255, 4096
+
+
+def odd_name(rel: str) -> str | None:
+    """Why a name a manifest lists cannot name a file (None when it can): a NUL byte, or a name
+    longer than the file system allows. Said in the message instead of a traceback (issue 38)."""
+    if "\x00" in rel:
+        return f"a name with a NUL byte (at character {rel.index(chr(0))})"
+    longest = max((len(part.encode("utf-8", "surrogateescape")) for part in rel.split("/")), default=0)
+    if longest > NAME_MAX or len(rel.encode("utf-8", "surrogateescape")) > PATH_MAX:
+        return f"a name longer than the file system allows ({longest} bytes in one part; at most {NAME_MAX})"
+    return None
+
+
+def shown(rel: str, limit: int = 80) -> str:
+    """A listed name as a message shows it: quoted with its odd characters escaped, cut to ``limit``."""
+    r = repr(rel)
+    return r if len(r) <= limit else f"{r[: limit - 5]}...{r[-1]} ({len(rel)} characters)"
+
+
 def _inside(rel: str, p: Path, root: Path) -> bool:
+    if odd_name(rel):
+        return False
     parts = PurePosixPath(rel).parts
     if not rel or PurePosixPath(rel).is_absolute() or ".." in parts or "\\" in rel:
         return False
@@ -168,6 +194,6 @@ def _controllers(metrics_csv: Path) -> int | None:
             return None
     summary = metrics_csv.parent.parent / "summary.json"
     try:
-        return int(json.loads(summary.read_text())[metrics_csv.parent.name]["controllers"])
+        return int(bounded.json_file(summary)[metrics_csv.parent.name]["controllers"])
     except (OSError, ValueError, KeyError, TypeError):
         return None

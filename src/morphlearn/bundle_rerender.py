@@ -16,7 +16,7 @@ import subprocess
 import sys
 from pathlib import Path, PurePosixPath
 
-from morphlearn import bundle, bundle_check, provenance, store
+from morphlearn import bounded, bundle, bundle_check, provenance, store
 
 #: Files of a bundle that a render writes (figures and the reproduction tables).
 RENDERED_SUFFIXES = (".png", ".pdf", ".caption.md")
@@ -53,7 +53,7 @@ def rerender(bundle_dir: str | Path, root: str | Path, cores: int = 2) -> list[s
     if problems:
         raise bundle.BundleError(f"{bundle_dir}: not re-rendered: {len(problems)} problem(s) first, {problems[0]}")
     mpath = path / bundle.MANIFEST
-    manifest = json.loads(mpath.read_text())
+    manifest = bounded.json_file(mpath)  # checked just above: a JSON object with its files
     cmd = render_command(bundle_dir, manifest, cores)
     commit = provenance.git_commit()  # before the render writes into the (tracked) bundle
     _render(cmd, root, bundle_dir)

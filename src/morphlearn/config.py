@@ -15,6 +15,8 @@ from typing import Any
 
 import yaml
 
+from morphlearn import bounded
+
 # jsonschema imports rfc3987_syntax when it is installed (jupyter-events pulls it in), and that
 # import builds 39 lark grammars: about 2 CPU-s in every process that validates a config (the
 # Snakefile's parse and every rule job), for an "iri" format this schema does not use and whose
@@ -281,12 +283,10 @@ class _UniqueKeyLoader(yaml.SafeLoader):
 
 def yaml_mapping(path: str | Path, what: str = "config keys") -> dict[str, Any]:
     """A YAML file whose top level is a mapping with unique keys. Every way it can be bad
-    (unreadable, not UTF-8 text, malformed, a key twice, empty, another shape) raises ValueError
-    with one line saying what, without the path (the caller names the file or the key)."""
-    try:
-        raw = Path(path).read_bytes()
-    except OSError as e:
-        raise ValueError(f"cannot read ({e.strerror})") from None
+    (unreadable, not UTF-8 text, malformed, a key twice, empty, another shape, beyond the limits of
+    :mod:`morphlearn.bounded`: its size, nesting, aliases) raises ValueError with one line saying
+    what, without the path (the caller names the file or the key)."""
+    raw = bounded.read_bytes(path)
     try:
         text = raw.decode("utf-8")
     except UnicodeDecodeError as e:
@@ -298,6 +298,7 @@ def yaml_mapping(path: str | Path, what: str = "config keys") -> dict[str, Any]:
             f"not a text file (NUL byte at offset {text.index(chr(0))}); allowed: a YAML mapping of {what}"
         )
     try:
+        bounded.check_yaml(text, _UniqueKeyLoader)  # before the composer, which recurses per level
         data = yaml.load(text, Loader=_UniqueKeyLoader)  # a SafeLoader subclass
     except yaml.reader.ReaderError as e:
         raise ValueError(

@@ -11,7 +11,7 @@ from importlib import metadata
 from pathlib import Path
 from typing import Any
 
-from morphlearn import __version__
+from morphlearn import __version__, bounded
 
 _LIBS = ("numpy", "scipy", "numba", "xarray", "zarr", "pybullet", "pandas", "snakemake")
 
@@ -125,8 +125,8 @@ def read_record(path: str | Path) -> dict[str, Any]:
     """A provenance record, its seal checked when it has one (CustodyError naming the file)."""
     path = Path(path)
     try:
-        rec = json.loads(path.read_text())
-    except (OSError, UnicodeDecodeError, ValueError) as e:
+        rec = bounded.json_file(path)
+    except ValueError as e:
         raise CustodyError(f"{path}: unreadable provenance record ({e})") from None
     if not isinstance(rec, dict):
         raise CustodyError(f"{path}: a provenance record is a JSON object, found {type(rec).__name__}")
@@ -189,8 +189,8 @@ def check_listed(root: str | Path, files: list[tuple[Path, str]]) -> None:
     bundle's files that were written before they had a sealed record."""
     manifest = Path(root) / _MANIFEST
     try:
-        listed = dict(json.loads(manifest.read_text())["files"])
-    except (OSError, ValueError, KeyError, TypeError) as e:
+        listed = dict(bounded.json_file(manifest)["files"])
+    except (ValueError, KeyError, TypeError) as e:
         raise CustodyError(f"{manifest}: unreadable ({e})") from None
     for p, d in files:
         rel = Path(p).relative_to(root).as_posix()
