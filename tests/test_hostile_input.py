@@ -729,3 +729,44 @@ def test_a_deep_provenance_record_is_one_custody_error(tmp_path: Path) -> None:
     (tmp_path / "metrics.provenance.json").write_text("[" * 3000 + "]" * 3000)
     with pytest.raises(provenance.CustodyError, match=r"unreadable provenance record \(nested deeper than 100"):
         provenance.check_derived(tmp_path / "metrics.csv")
+
+
+# --- messages that say what is allowed (issue 38, item 8) ---------------------------------------
+
+
+@pytest.mark.parametrize("designs", ["bogus", [[1, 2]], [[[0.5, 0.5]]]])
+def test_invalid_empirical_designs_says_what_is_allowed(designs: object) -> None:
+    msg = _one_line_config_error({"empirical": {**PHYSICS, "designs": designs}})
+    assert msg.startswith("empirical.designs = ") and not msg.rstrip().endswith("allowed:"), msg
+    assert 'allowed: "all" (every design of the grid) or a list of designs [[x1, y1], [x2, y2]]' in msg, msg
+
+
+def test_a_nested_config_value_given_on_the_command_line_is_said_to_arrive_as_a_string(wf: Path) -> None:
+    line = _start_refusal(wf, "--configfile", "small.yaml", "--config", "grid={positions_per_axis: 3, weights: 7}")
+    assert line.startswith("morphlearn: config error: grid."), line
+    assert "= '3' is invalid" in line or "= '7' is invalid" in line, line
+    assert "nested --config value" in line and "as strings: give them in a --configfile YAML" in line, line
+
+
+def test_resimulate_an_index_off_the_grid_is_a_usage_error_naming_the_range(capsys: pytest.CaptureFixture) -> None:
+    rc, _, err = _cli(["check-bundle", str(SURVEY), "--resimulate", "99999"], capsys)
+    assert rc == 2 and len(err.splitlines()) == 1, (rc, err)
+    assert "--resimulate '99999': no design 99999 on this bundle's grid; allowed: a design index 0 to 624" in err, err
+
+
+@pytest.mark.parametrize("cores", ["0", "-1"])
+def test_rerender_bundle_refuses_cores_below_one(cores: str, capsys: pytest.CaptureFixture) -> None:
+    _refused(
+        ["rerender-bundle", "results/survey", "--cores", cores], capsys, f"--cores = {cores}; allowed: an integer >= 1"
+    )
+
+
+def test_design_dt_too_small_is_said_in_a_short_number(capsys: pytest.CaptureFixture) -> None:
+    err = _refused(["design", "--l1", "0.5", "0.5", "--l2", "0.5", "-0.5", "--weights", "3", "--dt", "1e-300"], capsys)
+    assert "--dt 1e-300 needs 5e+302 RK4 steps" in err and len(err) < 200, err
+
+
+def test_readme_says_how_a_killed_local_run_resumes() -> None:
+    text = " ".join((ROOT / "README.md").read_text().split())
+    at = text.index("a killed shard resumes")
+    assert "--unlock" in text[at : at + 800] and "--rerun-incomplete" in text[at : at + 800]

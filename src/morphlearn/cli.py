@@ -172,6 +172,8 @@ def cmd_rerender_bundle(a: argparse.Namespace) -> int:
         raise UsageError("run it from the project's root folder (where the Snakefile is)")
     if not _exists(root / a.bundle / bundle.MANIFEST, "file", a.bundle):
         raise UsageError(f"{a.bundle}: no {bundle.MANIFEST} (a results bundle under the project, e.g. results/paper)")
+    if a.cores < 1:  # Snakemake would take 0 or -1 and fail later, after the bundle check
+        raise UsageError(f"--cores = {a.cores}; allowed: an integer >= 1 (Snakemake's cores for the render)")
     try:
         changed = bundle_rerender.rerender(a.bundle, root, a.cores)
     except bundle.BundleError as e:

@@ -77,7 +77,16 @@ def _describe(err: jsonschema.ValidationError) -> str:
         bounds.append(f"<= {s['maximum']}")
     if "enum" in s:
         bounds.append(f"one of {s['enum']}")
-    allowed = f"; allowed: {s.get('type', '')} {' and '.join(bounds)}".rstrip()
+    # a schema of alternatives (oneOf: empirical.designs) has no type: its description says what
+    desc = " ".join(str(s.get("description", "")).split()).split(". ")[0].rstrip(".")
+    kind = s.get("type") or desc or "see config_schema.yaml"
+    allowed = f"; allowed: {kind} {' and '.join(bounds)}".rstrip()
+    if v == "type" and isinstance(err.instance, str) and len(err.absolute_path) > 1:
+        # Snakemake's --config 'grid={weights: 7}' gives {"grid": {"weights": "7"}}: nested values stay strings
+        allowed += (
+            " (Snakemake passes the values inside a nested --config value, like grid={weights: 7}, as "
+            "strings: give them in a --configfile YAML instead)"
+        )
     return f"{key} = {err.instance!r} is invalid ({err.message}){allowed}"
 
 

@@ -123,6 +123,11 @@ def _designs_of(which: str, table: pd.DataFrame, g: gridmod.DesignGrid) -> list[
     if which in ("best_M_L", "best_M_CF"):
         return [int(metrics.rank_designs(table, which.removeprefix("best_")).design.iloc[0])]
     if which.isdigit():
+        if int(which) >= g.size:  # a usage error (exit 2 on the command line), not a missing row
+            raise BundleError(
+                f"--resimulate {which!r}: no design {which} on this bundle's grid; allowed: a design index "
+                f"0 to {g.size - 1} ({g.n} positions per axis), canonical, best_M_L, best_M_CF or sample:K"
+            )
         return [int(which)]
     k = which.removeprefix("sample:")
     if which.startswith("sample:") and k.isdigit() and 0 < int(k) <= len(table):
