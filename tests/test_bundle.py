@@ -139,23 +139,30 @@ def test_render_from_bundle_alone(smoke_bundle: Path, tmp_path: Path, monkeypatc
     data = {r: d for r, d in manifest["files"].items() if "figures/" not in r}
     redrawn = ["figures/fig1.caption.md", "figures/fig1.png"]
 
-    def render(cmd_: list[str], root: Path, bundle_dir: str) -> None:
-        assert cmd_ == cmd and root == wd and bundle_dir == "results/paper"
+    def render(cmd_: list[str], root: Path, target: Path) -> None:
+        # the same command, rendering into a copy beside the bundle (atomic: swapped in after)
+        assert root == wd and target.parent == Path("results") and target.name.startswith(".rerender-paper-")
+        assert cmd_ == [*cmd[:-2], f"results_dir={target}", "--forceall"], cmd_
         for rel in redrawn:
-            (out / rel).write_bytes((out / rel).read_bytes() + b"\n")
+            (root / target / rel).write_bytes((root / target / rel).read_bytes() + b"\n")
 
     monkeypatch.setattr(bundle_rerender, "_render", render)
     assert bundle_rerender.rerender("results/paper", wd) == redrawn
     manifest = json.loads((out / bundle.MANIFEST).read_text())
     assert manifest["rendered_by"]["files"] == redrawn and bundle_check.check(out) == []
+    assert manifest["rendered_by"]["command"].endswith("results_dir=results/paper --forceall")
     assert {r: d for r, d in manifest["files"].items() if "figures/" not in r} == data
-    # a render that changes what it does not make (the data) re-seals nothing
-    sealed = (out / bundle.MANIFEST).read_bytes()
-    monkeypatch.setattr(bundle_rerender, "_render", lambda *_: (out / "summary.md").write_text("edited\n"))
+    assert not list((wd / "results").glob(".rerender-*"))  # the copy is gone
+    # a render that changes what it does not make (the data) re-seals nothing, changes nothing
+    before = {p: p.read_bytes() for p in sorted(out.rglob("*")) if p.is_file()}
+    monkeypatch.setattr(
+        bundle_rerender, "_render", lambda _, root, target: (root / target / "summary.md").write_text("edited\n")
+    )
     with pytest.raises(bundle.BundleError, match=r"summary\.md, which it does not make"):
         bundle_rerender.rerender("results/paper", wd)
-    assert (out / bundle.MANIFEST).read_bytes() == sealed
+    assert {p: p.read_bytes() for p in sorted(out.rglob("*")) if p.is_file()} == before
     # a bundle that is not whole is not re-rendered (nothing re-sealed over an edit)
+    (out / "summary.md").write_text("edited\n")
     with pytest.raises(bundle.BundleError, match="not re-rendered"):
         bundle_rerender.rerender("results/paper", wd)
 

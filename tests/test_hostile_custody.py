@@ -870,3 +870,28 @@ def test_one_check_of_a_tables_meaning_for_the_render_compare_and_resimulate(
     assert rc == 2 and want in err_line and len(err_line.splitlines()) == 1, err_line
     again = resimulate.resimulate(paper_copy, ["theory:0"])  # another design: the table is still forged
     assert any(want in p for p in again), again
+
+
+def test_a_rerender_that_fails_midway_leaves_the_bundle_unchanged(
+    paper_copy: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """Issue 38: figures 1, 3 and 4 rewritten, then a notebook failed, and nothing was restored
+    (check-bundle failed after). Now the render runs on a copy beside the bundle: the same failure
+    midway leaves every file of the bundle as it was, and the copy is gone."""
+    from morphlearn import bundle_rerender
+
+    before = _snapshot(paper_copy)
+
+    def fails_midway(cmd: list[str], root: Path, target: Path) -> None:
+        assert f"results_dir={target}" in cmd and target != Path("paper")
+        for i in (1, 3, 4):
+            for ext in ("png", "caption.md"):
+                (root / target / f"figures/fig{i}.{ext}").write_bytes(b"redrawn\n")
+        raise bundle.BundleError(f"{target}: the render failed (exit 1): fig5 notebook raised")
+
+    monkeypatch.setattr(bundle_rerender, "_render", fails_midway)
+    with pytest.raises(bundle.BundleError, match="the render failed"):
+        bundle_rerender.rerender("paper", paper_copy.parent)
+    assert _snapshot(paper_copy) == before
+    assert bundle_check.check(paper_copy) == []
+    assert not list(paper_copy.parent.glob(".rerender-*"))
