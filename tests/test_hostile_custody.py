@@ -757,8 +757,10 @@ def _consistent_forgery(table: Path, d: int) -> None:
 
 def test_a_consistent_forgery_of_a_pybullet_row_needs_resimulation(run: Path, tmp_path: Path) -> None:
     """The smoke bundle's pybullet rows (2 x 2 weights, early stop on): a consistent edit with the
-    manifest updated passes check-bundle; ``--resimulate empirical:D`` re-simulates that design with
-    the recorded science and catches it (was: refused as a usage error, theory rows only)."""
+    manifest updated passes the row checks; a design whose arrays the bundle holds is caught by
+    comparing the row with them (issue 38), and ``--resimulate empirical:D`` re-simulates that
+    design with the recorded science and catches it (was: refused as a usage error, theory rows
+    only)."""
     b = tmp_path / "forged"
     shutil.copytree(run / "smoke-bundle", b)
     d = int(pd.read_csv(b / "empirical/metrics.csv").design.iloc[0])
@@ -766,7 +768,10 @@ def test_a_consistent_forgery_of_a_pybullet_row_needs_resimulation(run: Path, tm
     assert rc == 0 and "agree exactly" in out, out
     _consistent_forgery(b / "empirical/metrics.csv", d)
     _reseal_manifest(b, "empirical/metrics.csv")
-    assert bundle_check.check(b) == []  # consistent in itself
+    assert bundle_check.row_problems(pd.read_csv(b / "empirical/metrics.csv"), None) == []  # consistent in itself
+    assert bundle_check.check(b) == [
+        f"{b}/empirical/metrics.csv: design {d}: its row's counts differ from the merged store's arrays"
+    ]
     rc, out = _cli(str(b), "--resimulate", f"empirical:{d}")
     assert rc == 1 and f"empirical design {d}: metrics row" in out, out
 
@@ -818,7 +823,8 @@ def test_mujoco_rows_resimulate_with_their_recorded_levers(mujoco_results: Path,
         shutil.copytree(mujoco_results, b)
         _consistent_forgery(b / "mujoco/metrics.csv", d)
         assert bundle_check.row_problems(pd.read_csv(b / "mujoco/metrics.csv"), 9) == []
-        (again,) = resimulate.resimulate(b, [f"mujoco:{d}"])
+        meaning, again = resimulate.resimulate(b, [f"mujoco:{d}"])  # the held arrays, then the simulation
+        assert meaning.endswith(f"design {d}: its row's counts differ from the merged store's arrays"), meaning
         assert again.startswith(f"mujoco design {d}: metrics row"), again
 
 
