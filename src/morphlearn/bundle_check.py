@@ -214,8 +214,8 @@ def _store_disagrees(metrics_csv: Path, table: pd.DataFrame, ds: Any) -> list[st
             continue
         try:
             one = store.read_design(ds, i)
-        except ValueError as e:
-            return [str(e).splitlines()[0]]
+        except ValueError:  # a damaged chunk: the bundle's digests (and store.verify_merged) name it
+            continue
         dm = metrics.design_metrics(metrics.success(one["first_time"], one["min_dist"], th), one["status"])
         row = rows.loc[design]
         if [*(int(row[c]) for c in envs), int(row.generalists), int(row.at_least_one)] != [
