@@ -29,6 +29,7 @@ from morphlearn.figures import caption, data
 from morphlearn.grid import ENV_ANGLES_DEG
 
 SMOKE = ("--configfile", "config/smoke.yaml")
+COORDS = ["l1x", "l1y", "l2x", "l2y"]
 PAPER = ROOT / "results" / "paper"
 
 
@@ -593,6 +594,63 @@ def _at_least_one_below_env(b: Path) -> str:
     return "an environment's count above at_least_one"
 
 
+def _table_forgery(name: str, change: Callable[[pd.DataFrame], pd.DataFrame], want: str, model: str = "theory"):
+    """A forged metrics table whose digests were updated in bundle.json (issue 38, item 3): each
+    row consistent in itself, so only the check of what the rows mean against the bundle's grid and
+    store finds it."""
+
+    def attack(b: Path) -> str:
+        rel = f"{model}/metrics.csv"
+        change(pd.read_csv(b / rel)).to_csv(b / rel, index=False, float_format=metrics.CSV_FLOAT_FORMAT)
+        _reseal_manifest(b, rel)
+        return want
+
+    attack.__name__ = name
+    return attack
+
+
+def _best(t: pd.DataFrame) -> int:
+    return int(metrics.rank_designs(t, "M_L").design.iloc[0])
+
+
+def _set(t: pd.DataFrame, row: int, **values: object) -> pd.DataFrame:
+    t = t.copy()
+    for k, v in values.items():
+        t[k] = t[k].astype(object) if isinstance(v, str) else t[k]
+        t.loc[row, k] = v
+    return t
+
+
+TABLE_FORGERIES = [
+    _table_forgery("duplicated row", lambda t: pd.concat([t, t.iloc[[7]]]), "design 7 appears more than once"),
+    _table_forgery("deleted best row", lambda t: t[t.design != _best(t)], "is missing (a design of this bundle's"),
+    _table_forgery("design 99999", lambda t: _set(t, 7, design=99999), "design 99999 is not a design of this bundle"),
+    _table_forgery("design -3", lambda t: _set(t, 7, design=-3), "design -3 is not a design of this bundle"),
+    _table_forgery("off-grid l1x", lambda t: _set(t, 5, l1x=0.77), "design 5: coordinates are not its grid position's"),
+    _table_forgery(
+        "swapped coordinates",
+        lambda t: _set(t, 5, l1x=t.l2x[5], l1y=t.l2y[5], l2x=t.l1x[5], l2y=t.l1y[5]),
+        "design 5: coordinates are not its grid position's",
+    ),
+    _table_forgery(
+        "model rewritten", lambda t: _set(t, 3, model="empirical"), "design 3: model column is not 'theory'"
+    ),
+    _table_forgery(
+        "held row swapped with another",  # the counts of two designs exchanged: each row consistent
+        lambda t: t.assign(design=t.design.replace({_best(t): 0, 0: _best(t)})).assign(
+            **{c: t.set_index("design").loc[t.design.replace({_best(t): 0, 0: _best(t)}), c].to_numpy() for c in COORDS}
+        ),
+        "its row's counts differ from the merged store's arrays",
+    ),
+]
+
+
+def _store_replaced(b: Path) -> str:
+    (b / "theory/merged.zarr/zarr.json").write_text("[]")
+    _reseal_manifest(b, "theory/merged.zarr/zarr.json")
+    return "the merged store beside it is unreadable"
+
+
 def _path_outside(b: Path) -> str:
     _json_edit(b / bundle.MANIFEST, lambda m: m["files"].update({"../../etc/hostname": "0" * 64}))
     return "'../../etc/hostname', a path outside the bundle (not read)"
@@ -643,6 +701,8 @@ def _shape(text: str | bytes) -> Callable[[Path], str]:
             for r in ("logs/x.log", "benchmarks/x.tsv", ".snakemake_x", "figures/fig9.html", "figures/evil.html")
         ),
         *(_shape(t) for t in ("[]", '{"files": []}', '{"files": {"summary.md": 1}}', "null", b"\xff\xfe\x00")),
+        *TABLE_FORGERIES,
+        _store_replaced,
     ],
     ids=lambda f: f.__name__,
 )
@@ -697,8 +757,10 @@ def _consistent_forgery(table: Path, d: int) -> None:
 
 def test_a_consistent_forgery_of_a_pybullet_row_needs_resimulation(run: Path, tmp_path: Path) -> None:
     """The smoke bundle's pybullet rows (2 x 2 weights, early stop on): a consistent edit with the
-    manifest updated passes check-bundle; ``--resimulate empirical:D`` re-simulates that design with
-    the recorded science and catches it (was: refused as a usage error, theory rows only)."""
+    manifest updated passes the row checks; a design whose arrays the bundle holds is caught by
+    comparing the row with them (issue 38), and ``--resimulate empirical:D`` re-simulates that
+    design with the recorded science and catches it (was: refused as a usage error, theory rows
+    only)."""
     b = tmp_path / "forged"
     shutil.copytree(run / "smoke-bundle", b)
     d = int(pd.read_csv(b / "empirical/metrics.csv").design.iloc[0])
@@ -706,7 +768,10 @@ def test_a_consistent_forgery_of_a_pybullet_row_needs_resimulation(run: Path, tm
     assert rc == 0 and "agree exactly" in out, out
     _consistent_forgery(b / "empirical/metrics.csv", d)
     _reseal_manifest(b, "empirical/metrics.csv")
-    assert bundle_check.check(b) == []  # consistent in itself
+    assert bundle_check.row_problems(pd.read_csv(b / "empirical/metrics.csv"), None) == []  # consistent in itself
+    assert bundle_check.check(b) == [
+        f"{b}/empirical/metrics.csv: design {d}: its row's counts differ from the merged store's arrays"
+    ]
     rc, out = _cli(str(b), "--resimulate", f"empirical:{d}")
     assert rc == 1 and f"empirical design {d}: metrics row" in out, out
 
@@ -758,7 +823,8 @@ def test_mujoco_rows_resimulate_with_their_recorded_levers(mujoco_results: Path,
         shutil.copytree(mujoco_results, b)
         _consistent_forgery(b / "mujoco/metrics.csv", d)
         assert bundle_check.row_problems(pd.read_csv(b / "mujoco/metrics.csv"), 9) == []
-        (again,) = resimulate.resimulate(b, [f"mujoco:{d}"])
+        meaning, again = resimulate.resimulate(b, [f"mujoco:{d}"])  # the held arrays, then the simulation
+        assert meaning.endswith(f"design {d}: its row's counts differ from the merged store's arrays"), meaning
         assert again.startswith(f"mujoco design {d}: metrics row"), again
 
 
@@ -791,3 +857,47 @@ def test_resimulate_names_a_model_the_bundle_does_not_hold(mujoco_results: Path)
     assert resimulate.resimulate(mujoco_results, ["empirical:1"]) == [
         f"{mujoco_results}/empirical: no empirical results in this bundle (allowed models here: mujoco)"
     ]
+
+
+def test_one_check_of_a_tables_meaning_for_the_render_compare_and_resimulate(
+    paper_copy: Path, capsys: pytest.CaptureFixture
+) -> None:
+    """The forged tables check-bundle refuses (test_check_bundle_refuses) are refused by the
+    render's start check, by ``compare`` and by ``--resimulate`` too: one check
+    (bundle_check.meaning_problems), not four that disagree (issue 38: compare refused the
+    duplicated table the others passed; ``--resimulate 5`` said the off-grid row agreed exactly)."""
+    off_grid = next(a for a in TABLE_FORGERIES if a.__name__ == "off-grid l1x")
+    want = off_grid(paper_copy)
+    with pytest.raises(ValueError, match="nothing was rendered") as err:
+        rules.check_render_inputs([f"{paper_copy}/theory/{n}" for n in ("metrics.csv", "merged.zarr")])
+    assert want in str(err.value), err.value
+    rc = cli.main(["compare", str(paper_copy / "theory/metrics.csv"), str(PAPER / "mujoco/metrics.csv")])
+    err_line = capsys.readouterr().err.strip()
+    assert rc == 2 and want in err_line and len(err_line.splitlines()) == 1, err_line
+    again = resimulate.resimulate(paper_copy, ["theory:0"])  # another design: the table is still forged
+    assert any(want in p for p in again), again
+
+
+def test_a_rerender_that_fails_midway_leaves_the_bundle_unchanged(
+    paper_copy: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """Issue 38: figures 1, 3 and 4 rewritten, then a notebook failed, and nothing was restored
+    (check-bundle failed after). Now the render runs on a copy beside the bundle: the same failure
+    midway leaves every file of the bundle as it was, and the copy is gone."""
+    from morphlearn import bundle_rerender
+
+    before = _snapshot(paper_copy)
+
+    def fails_midway(cmd: list[str], root: Path, target: Path) -> None:
+        assert f"results_dir={target}" in cmd and target != Path("paper")
+        for i in (1, 3, 4):
+            for ext in ("png", "caption.md"):
+                (root / target / f"figures/fig{i}.{ext}").write_bytes(b"redrawn\n")
+        raise bundle.BundleError(f"{target}: the render failed (exit 1): fig5 notebook raised")
+
+    monkeypatch.setattr(bundle_rerender, "_render", fails_midway)
+    with pytest.raises(bundle.BundleError, match="the render failed"):
+        bundle_rerender.rerender("paper", paper_copy.parent)
+    assert _snapshot(paper_copy) == before
+    assert bundle_check.check(paper_copy) == []
+    assert not list(paper_copy.parent.glob(".rerender-*"))

@@ -17,6 +17,7 @@ import os
 import shutil
 import subprocess
 import sys
+from collections.abc import Callable
 from pathlib import Path
 
 import pytest
@@ -525,3 +526,247 @@ def test_results_dir_with_a_space_and_quote_reaches_the_figure_commands_whole(wf
     args = (wf / rd / "logs/figures/fig1.log").read_text().splitlines()
     assert args[args.index("--output-dir") + 1] == f"{rd}/figures", args
     shutil.rmtree(wf / "res ults")
+
+
+# --- results_dir: never a committed bundle (but to re-render it) nor a project folder (issue 38) ---
+
+#: What a run refused at start says is allowed (config.RESULTS_ALLOWED).
+WHERE_RESULTS_GO = "a folder of your own under results/ that is not a bundle"
+
+
+@pytest.mark.parametrize(
+    ("results_dir", "render_only", "needle"),
+    [
+        ("results/survey", False, "holds a results bundle (bundle.json)"),  # was: 7 min, 254 files in it
+        ("./results//survey/", False, "holds a results bundle (bundle.json)"),  # the same folder spelled otherwise
+        ("results/survey9-mujoco", False, "holds a results bundle (bundle.json)"),
+        ("results/survey/theory", False, "is inside the results bundle"),
+        ("results/survey/theory", True, "is inside the results bundle"),  # render-only: the bundle itself only
+        (".", False, "is the project folder or one that holds it"),
+        ("..", True, "is the project folder or one that holds it"),
+        ("docs", False, "is the project's source folder docs/"),
+        ("src/morphlearn", True, "is inside the project's source folder src/"),
+        ("config", False, "is the project's source folder config/"),
+        ("notebooks/out", False, "is inside the project's source folder notebooks/"),
+        ("benchmarks", False, "is the project's source folder benchmarks/"),
+        ("tools", False, "is the project's source folder tools/"),
+        ("tests", False, "is the project's source folder tests/"),
+        ("workflow", False, "is the project's source folder workflow/"),
+        ("envs", False, "is the project's source folder envs/"),
+    ],
+)
+def test_results_dir_refuses_bundles_and_project_folders(results_dir: str, render_only: bool, needle: str) -> None:
+    msg = _one_line_config_error({"results_dir": results_dir, "render_only": render_only})
+    assert msg.startswith(f"results_dir = {results_dir!r} {needle}") and WHERE_RESULTS_GO in msg, msg
+    assert not any(w in msg.lower() for w in ("delete", "remove", "rm ")), msg
+
+
+def test_results_dir_allows_a_new_folder_the_default_and_the_re_render_of_a_bundle() -> None:
+    for rd, render_only in (("results/my-run", False), ("results", False), ("results/survey", True)):
+        patch = {"results_dir": rd, "render_only": render_only, "figures": {"enabled": render_only}}
+        assert config.validate(config.deep_merge(_base(), patch))["results_dir"] == rd
+
+
+def test_bundle_dir_refuses_a_source_folder_and_a_folder_inside_a_bundle() -> None:
+    """bundle_dir shares the guard (config.source_folder): an absent folder under src/ was allowed."""
+    from morphlearn import bundle
+
+    made = bundle.made_by(["config/smoke.yaml", "config.yaml"], "results")
+    for target, needle in (
+        ("src/morphlearn/new-bundle", "is inside the project's source folder src/"),
+        ("results/survey/new-bundle", "is inside the results bundle"),
+    ):
+        with pytest.raises(bundle.BundleError) as e:
+            bundle.check_target(target, made)
+        assert str(e.value).startswith(f"bundle_dir = {target!r} {needle}"), e.value
+
+
+def test_workflow_refuses_a_committed_bundle_as_results_dir_before_writing(wf: Path) -> None:
+    """End to end, as the issue ran it (no render_only): refused at start, nothing written there."""
+    b = wf / "results" / "committed"
+    b.mkdir(parents=True)
+    (b / "bundle.json").write_text("{}")
+    try:
+        exe = Path(sys.executable).with_name("snakemake")
+        proc = subprocess.run(
+            [str(exe), "-n", "--cores", "1", "--configfile", "small.yaml", "--config", "results_dir=results/committed"],
+            cwd=wf,
+            capture_output=True,
+            text=True,
+            timeout=300,
+        )
+        ours = [ln for ln in proc.stderr.splitlines() if ln.startswith("morphlearn")]
+        assert proc.returncode == 2 and len(ours) == 1 and "Traceback" not in proc.stderr, proc.stderr[-2000:]
+        assert ours[0].startswith("morphlearn: config error: results_dir = 'results/committed' holds a results bundle")
+        assert sorted(p.name for p in b.iterdir()) == ["bundle.json"]
+    finally:
+        shutil.rmtree(wf / "results")
+
+
+# --- unbounded input: size, depth, aliases, devices (issue 38; morphlearn.bounded) ---------------
+
+_LAUGHS = "a0: &a0 [x, x, x, x, x, x, x, x, x, x]\n" + "".join(
+    f"a{i}: &a{i} [{', '.join([f'*a{i - 1}'] * 10)}]\n" for i in range(1, 8)
+)
+#: name -> (how to make the file in a folder, what the one line says)
+UNBOUNDED: dict[str, tuple[Callable[[Path], Path], str]] = {
+    "deep_lists": (lambda d: _write(d, "x: " + "[" * 5000 + "]" * 5000), "nested deeper than 100 levels (line 1)"),
+    "deep_maps": (
+        lambda d: _write(d, "".join(f"{' ' * i}k{i}:\n" for i in range(101)) + " " * 101 + "v: 1"),
+        "nested deeper than 100 levels (line 101)",
+    ),
+    "self_alias": (lambda d: _write(d, "x: &a [*a]"), "the alias *a (line 1) is inside the collection &a"),
+    "self_alias_map": (lambda d: _write(d, "grid: &g {weights: 5, again: *g}"), "the alias *g (line 1)"),
+    "deep_through_alias": (
+        lambda d: _write(d, "a: &a " + "[" * 60 + "]" * 60 + "\nb: " + "[" * 45 + "*a" + "]" * 45),
+        "nested deeper than 100 levels (line 2)",
+    ),
+    "laughs": (lambda d: _write(d, _LAUGHS), "expands through its aliases to more than 1000000 values"),
+    "eleven_mb": (lambda d: _write(d, "x: '" + "a" * (11 * 2**20) + "'"), "is larger than 10 MB"),
+    "dev_zero": (lambda d: Path("/dev/zero"), "is a device, pipe or socket, not a regular file"),
+    "fifo": (lambda d: (os.mkfifo(d / "fifo.yaml"), d / "fifo.yaml")[1], "is a device, pipe or socket"),
+    "folder": (lambda d: d, "is a folder, not a regular file"),
+}
+
+
+def _write(d: Path, text: str) -> Path:
+    (d / "attack.yaml").write_text(text + "\n")
+    return d / "attack.yaml"
+
+
+@pytest.mark.parametrize("kind", sorted(UNBOUNDED))
+def test_unbounded_config_scenario_and_body_files_refused_in_one_line(
+    kind: str, tmp_path: Path, capsys: pytest.CaptureFixture
+) -> None:
+    make, needle = UNBOUNDED[kind]
+    p = make(tmp_path)
+    for read in (settings.load, scenarios.read_file):
+        with pytest.raises(config.ConfigError) as e:
+            read(p)
+        msg = str(e.value)
+        assert msg.startswith(f"{p}: ") and needle in msg and "\n" not in msg, msg
+    args = ["design", "--model", "empirical", "--l1", "0", "0", "--l2", "0", "0", "--morphology", str(p)]
+    _refused(args, capsys, f"--morphology {p}: {needle}")
+
+
+def test_aliases_within_the_limits_still_read(tmp_path: Path) -> None:
+    """The negative control: an alias of a finished value, nested 100 deep in all, 10**6 values."""
+    p = _write(tmp_path, "a: &a " + "[" * 50 + "]" * 50 + "\nb: " + "[" * 49 + "*a" + "]" * 49)
+    assert set(config.yaml_mapping(p)) == {"a", "b"}
+    p = _write(tmp_path, "".join(_LAUGHS.splitlines(keepends=True)[:5]))  # a4: 10**4 lists of 10 x
+    assert len(config.yaml_mapping(p)) == 5
+
+
+@pytest.mark.parametrize("kind", ["dev_zero", "fifo", "deep_lists", "self_alias"])
+def test_morphlearn_run_refuses_an_unbounded_configfile_at_once(wf: Path, kind: str, tmp_path: Path) -> None:
+    """Was: /dev/zero read until the machine ran out of memory (23.7 GB); a deep file, 2,995 lines."""
+    p = UNBOUNDED[kind][0](tmp_path)
+    exe = Path(sys.executable).with_name("morphlearn")
+    proc = subprocess.run(
+        [str(exe), "run", "-n", "--cores", "1", "--configfile", "small.yaml", str(p)],
+        cwd=wf,
+        capture_output=True,
+        text=True,
+        timeout=60,
+    )
+    said = [ln for ln in (proc.stdout + proc.stderr).splitlines() if ln.strip()]
+    assert proc.returncode == 2 and len(said) == 1, said
+    assert said[0].startswith(f"morphlearn run: config error: {p}: {UNBOUNDED[kind][1]}"), said
+
+
+def test_workflow_refuses_a_self_alias_snakemake_read_in_one_line(wf: Path) -> None:
+    """Snakemake reads the file itself first (a recursive list is valid YAML to it); the Snakefile's
+    first check refuses it in one line (was: 990 lines from common.smk)."""
+    (wf / "alias.yaml").write_text("x: &a [*a]\n")
+    line = _start_refusal(wf, "--configfile", "small.yaml", "alias.yaml")
+    assert line.startswith("morphlearn: config error: ") and "alias.yaml: the alias *a (line 1)" in line, line
+
+
+def test_scenario_file_key_refuses_an_unbounded_file(wf: Path) -> None:
+    (wf / "deep_scenarios.yaml").write_text("s: " + "[" * 5000 + "]" * 5000 + "\n")
+    line = _start_refusal(
+        wf, "--configfile", "small.yaml", "--config", "scenarios=all", "scenario_file=deep_scenarios.yaml"
+    )
+    assert "deep_scenarios.yaml: nested deeper than 100 levels" in line, line
+
+
+def _bundle(tmp_path: Path, manifest: str) -> Path:
+    b = tmp_path / "b"
+    b.mkdir()
+    (b / "a.txt").write_text("a\n")
+    (b / "bundle.json").write_text(manifest)
+    return b
+
+
+@pytest.mark.parametrize(
+    ("manifest", "needle"),
+    [
+        ('{"files": ' + "[" * 5000 + "]" * 5000 + "}", "bundle.json: unreadable (nested deeper than 100 levels"),
+        ('{"files": {}, "made_by": ' + "[" * 200 + "]" * 200 + "}", "bundle.json: unreadable (nested deeper than 100"),
+        ('{"files": {"' + "x" * 300 + '.csv": "' + "0" * 64 + '"}}', "(304 characters), a name longer than the file"),
+        ('{"files": {"a\\u0000b.csv": "' + "0" * 64 + '"}}', "lists 'a\\x00b.csv', a name with a NUL byte"),
+        ('{"files": {"' + "d/" * 2100 + 'f": "' + "0" * 64 + '"}}', "a name longer than the file system allows"),
+    ],
+)
+def test_check_bundle_says_one_line_for_a_hostile_manifest(
+    manifest: str, needle: str, tmp_path: Path, capsys: pytest.CaptureFixture
+) -> None:
+    b = _bundle(tmp_path, manifest)
+    rc, out, err = _cli(["check-bundle", str(b)], capsys)
+    assert rc == 1 and err == "" and "Traceback" not in out, (rc, out[-500:], err)
+    assert needle in out.splitlines()[0] and len(out.splitlines()[0]) < 400, out[:600]
+
+
+def test_check_bundle_and_rerender_refuse_a_300_character_folder_name(capsys: pytest.CaptureFixture) -> None:
+    for cmd in ("check-bundle", "rerender-bundle"):
+        _refused([cmd, "results/" + "y" * 300], capsys, "(308 characters): cannot be read (File name too long)")
+
+
+def test_a_deep_provenance_record_is_one_custody_error(tmp_path: Path) -> None:
+    from morphlearn import provenance
+
+    (tmp_path / "metrics.csv").write_text("design\n0\n")
+    (tmp_path / "metrics.provenance.json").write_text("[" * 3000 + "]" * 3000)
+    with pytest.raises(provenance.CustodyError, match=r"unreadable provenance record \(nested deeper than 100"):
+        provenance.check_derived(tmp_path / "metrics.csv")
+
+
+# --- messages that say what is allowed (issue 38, item 8) ---------------------------------------
+
+
+@pytest.mark.parametrize("designs", ["bogus", [[1, 2]], [[[0.5, 0.5]]]])
+def test_invalid_empirical_designs_says_what_is_allowed(designs: object) -> None:
+    msg = _one_line_config_error({"empirical": {**PHYSICS, "designs": designs}})
+    assert msg.startswith("empirical.designs = ") and not msg.rstrip().endswith("allowed:"), msg
+    assert 'allowed: "all" (every design of the grid) or a list of designs [[x1, y1], [x2, y2]]' in msg, msg
+
+
+def test_a_nested_config_value_given_on_the_command_line_is_said_to_arrive_as_a_string(wf: Path) -> None:
+    line = _start_refusal(wf, "--configfile", "small.yaml", "--config", "grid={positions_per_axis: 3, weights: 7}")
+    assert line.startswith("morphlearn: config error: grid."), line
+    assert "= '3' is invalid" in line or "= '7' is invalid" in line, line
+    assert "nested --config value" in line and "as strings: give them in a --configfile YAML" in line, line
+
+
+def test_resimulate_an_index_off_the_grid_is_a_usage_error_naming_the_range(capsys: pytest.CaptureFixture) -> None:
+    rc, _, err = _cli(["check-bundle", str(SURVEY), "--resimulate", "99999"], capsys)
+    assert rc == 2 and len(err.splitlines()) == 1, (rc, err)
+    assert "--resimulate '99999': no design 99999 on this bundle's grid; allowed: a design index 0 to 624" in err, err
+
+
+@pytest.mark.parametrize("cores", ["0", "-1"])
+def test_rerender_bundle_refuses_cores_below_one(cores: str, capsys: pytest.CaptureFixture) -> None:
+    _refused(
+        ["rerender-bundle", "results/survey", "--cores", cores], capsys, f"--cores = {cores}; allowed: an integer >= 1"
+    )
+
+
+def test_design_dt_too_small_is_said_in_a_short_number(capsys: pytest.CaptureFixture) -> None:
+    err = _refused(["design", "--l1", "0.5", "0.5", "--l2", "0.5", "-0.5", "--weights", "3", "--dt", "1e-300"], capsys)
+    assert "--dt 1e-300 needs 5e+302 RK4 steps" in err and len(err) < 200, err
+
+
+def test_readme_says_how_a_killed_local_run_resumes() -> None:
+    text = " ".join((ROOT / "README.md").read_text().split())
+    at = text.index("a killed shard resumes")
+    assert "--unlock" in text[at : at + 800] and "--rerun-incomplete" in text[at : at + 800]

@@ -32,8 +32,9 @@ import numpy as np
 import pandas as pd
 import yaml
 
-from morphlearn import __version__, metrics, provenance, store
+from morphlearn import __version__, bounded, metrics, provenance, store
 from morphlearn import grid as gridmod
+from morphlearn.config import bundle_holding, source_folder
 
 #: Files copied from the run's results folder, when present (paths relative to it).
 #: The learner stage's small tables (its figure and reproduction rows read them).
@@ -107,16 +108,21 @@ def check_target(bundle_dir: str | Path, made_by: dict[str, Any]) -> None:
         "allowed: an absent or empty folder, or a bundle made by this same config (its bundle.json "
         f"made_by: configs {sorted(made_by['configs'])}, results_dir {made_by['results_dir']!r}); nothing was written"
     )
-    why = None
-    if target.resolve() in (here, *here.parents) or target.resolve() in (results, *results.parents):
+    held = bundle_holding(target)
+    why = source_folder(target)  # the same guard as results_dir's (config._check_results_dir)
+    if why:
+        pass
+    elif target.resolve() in (here, *here.parents) or target.resolve() in (results, *results.parents):
         why = "is the project folder, the results folder or one that holds them"
+    elif held is not None and held != target.resolve():
+        why = f"is inside the results bundle {held}"
     elif target.is_symlink() or (target.exists() and not target.is_dir()):
         why = "is a file (or a link), not a bundle folder"
     elif target.is_dir() and any(target.iterdir()):
         mpath = target / MANIFEST
         try:
-            by = json.loads(mpath.read_text()).get("made_by", {})
-        except (OSError, ValueError, AttributeError):
+            by = bounded.json_file(mpath).get("made_by", {})
+        except (ValueError, AttributeError):
             by = None
         if not isinstance(by, dict):
             why = f"holds files and no readable {MANIFEST}: the bundle rule would replace what it did not make"

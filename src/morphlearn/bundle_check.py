@@ -6,13 +6,14 @@ from __future__ import annotations
 import json
 import shutil
 from pathlib import Path, PurePosixPath
+from typing import Any
 
 import numpy as np
 import pandas as pd
 
-from morphlearn import metrics, provenance, store
+from morphlearn import bounded, metrics, provenance, store
 from morphlearn.bundle import MANIFEST, BundleError, bundle_files
-from morphlearn.grid import ENV_ANGLES_DEG
+from morphlearn.grid import ENV_ANGLES_DEG, DesignGrid
 
 
 def extract_model(bundle_dir: str | Path, model: str, out: dict[str, str | Path]) -> None:
@@ -44,8 +45,8 @@ def check(out_dir: str | Path, *, rows: bool = True) -> list[str]:
     if not mpath.is_file():
         return [f"{mpath}: missing"]
     try:
-        manifest = json.loads(mpath.read_text())
-    except (OSError, UnicodeDecodeError, ValueError) as e:
+        manifest = bounded.json_file(mpath)  # size and nesting bounded: one line, never a traceback
+    except ValueError as e:
         return [f"{mpath}: unreadable ({e})"]
     listed = manifest.get("files") if isinstance(manifest, dict) else None
     if not isinstance(listed, dict) or not all(isinstance(k, str) and isinstance(v, str) for k, v in listed.items()):
@@ -54,7 +55,10 @@ def check(out_dir: str | Path, *, rows: bool = True) -> list[str]:
     problems = []
     for rel, digest in listed.items():
         p = out_dir / rel
-        if not _inside(rel, p, root):
+        odd = odd_name(rel)
+        if odd:
+            problems.append(f"{mpath}: lists {shown(rel)}, {odd} (not read)")
+        elif not _inside(rel, p, root):
             problems.append(f"{mpath}: lists {rel!r}, a path outside the bundle (not read)")
         elif not p.is_file():
             problems.append(f"{p}: listed in {MANIFEST} but missing")
@@ -70,7 +74,30 @@ def check(out_dir: str | Path, *, rows: bool = True) -> list[str]:
     return problems
 
 
+#: The longest file name, and path, a Linux file system holds (bytes): longer ones raise OSError.
+NAME_MAX, PATH_MAX = 255, 4096
+
+
+def odd_name(rel: str) -> str | None:
+    """Why a name a manifest lists cannot name a file (None when it can): a NUL byte, or a name
+    longer than the file system allows. Said in the message instead of a traceback (issue 38)."""
+    if "\x00" in rel:
+        return f"a name with a NUL byte (at character {rel.index(chr(0))})"
+    longest = max((len(part.encode("utf-8", "surrogateescape")) for part in rel.split("/")), default=0)
+    if longest > NAME_MAX or len(rel.encode("utf-8", "surrogateescape")) > PATH_MAX:
+        return f"a name longer than the file system allows ({longest} bytes in one part; at most {NAME_MAX})"
+    return None
+
+
+def shown(rel: str, limit: int = 80) -> str:
+    """A listed name as a message shows it: quoted with its odd characters escaped, cut to ``limit``."""
+    r = repr(rel)
+    return r if len(r) <= limit else f"{r[: limit - 5]}...{r[-1]} ({len(rel)} characters)"
+
+
 def _inside(rel: str, p: Path, root: Path) -> bool:
+    if odd_name(rel):
+        return False
     parts = PurePosixPath(rel).parts
     if not rel or PurePosixPath(rel).is_absolute() or ".." in parts or "\\" in rel:
         return False
@@ -116,7 +143,98 @@ def check_rows(out_dir: str | Path, listed: dict[str, str]) -> list[str]:
             problems.append(f"{path}: unreadable ({e})")
             continue
         problems += [f"{path}: {p}" for p in row_problems(table, _controllers(path))]
+        problems += [f"{path}: {p}" for p in meaning_problems(path, table)]
     return problems
+
+
+#: The coordinate columns of a metrics table, in the order of ``DesignGrid.coords``.
+COORDS = ("l1x", "l1y", "l2x", "l2y")
+
+
+def meaning_problems(metrics_csv: Path, table: pd.DataFrame) -> list[str]:
+    """What a metrics table says that its merged store beside it contradicts (issue 38: a forger
+    who re-sealed the digests got a duplicated, deleted or off-grid row, a rewritten model column
+    or a store replaced by ``[]`` through every check). The rows must be exactly the designs the
+    store's science names (every design of its grid, or its ``designs`` list), each once, with the
+    grid coordinates of its index and the store's model; the store must be readable and each
+    design it holds must give the table's counts (its metrics recomputed from its arrays at the
+    table's recorded thresholds). A table with no store beside it (a scenario's) is not checked
+    here. At most a few lines per kind."""
+    from morphlearn import models
+
+    merged = metrics_csv.parent / "merged.zarr"
+    if not merged.is_dir():
+        return []
+    try:
+        ds = store.open_merged(merged)
+        sci = store.science_of(ds)
+        model = str(ds.attrs.get("model", sci.get("model")))
+        grid = DesignGrid(models.get(model).positions_of(sci))
+    except (ValueError, KeyError, TypeError, AttributeError) as e:  # IntegrityError is a ValueError
+        return [f"the merged store beside it is unreadable ({str(e).splitlines()[0][:200]})"]
+    if "design" not in table.columns or not pd.api.types.is_integer_dtype(table.design):
+        return ["no integer design column"]
+    out = []
+    d = table.design.to_numpy()
+    want = set(int(x) for x in sci["designs"]) if isinstance(sci.get("designs"), list) else set(range(grid.size))
+    for why, rows in (
+        ("appears more than once", sorted(set(d[table.design.duplicated()].tolist()))),
+        (f"is not a design of this bundle's grid or design list ({len(want)} designs)", sorted(set(d) - want)),
+        ("is missing (a design of this bundle's grid or design list)", sorted(want - set(d.tolist()))),
+    ):
+        if rows:
+            out.append(f"design {_few(rows)} {why}")
+    if "model" in table.columns and (bad := sorted(set(d[table.model.astype(str) != model].tolist()))):
+        out.append(f"design {_few(bad)}: model column is not {model!r} (the store's)")
+    on = table[np.isin(d, list(want))]
+    if all(c in on.columns for c in COORDS) and len(on):
+        have = on[list(COORDS)].to_numpy(dtype=float)
+        off = ~np.isclose(have, grid.coords(on.design.to_numpy()), atol=1e-9).all(axis=1)
+        if off.any():
+            out.append(f"design {_few(on.design[off].tolist())}: coordinates are not its grid position's")
+    return out + _store_disagrees(metrics_csv, table, ds)
+
+
+def _store_disagrees(metrics_csv: Path, table: pd.DataFrame, ds: Any) -> list[str]:
+    """Each design the store holds recomputed at the table's recorded thresholds: its row's counts."""
+    try:
+        th = metrics.Thresholds(
+            **provenance.read_record(metrics_csv.with_suffix(".provenance.json"))["config"]["thresholds"]
+        )
+    except (ValueError, KeyError, TypeError):  # the record's own check names it
+        return []
+    envs = [f"n_{a}" for a in ENV_ANGLES_DEG]
+    if not all(c in table.columns for c in (*envs, "generalists", "at_least_one")):
+        return []
+    rows = table.drop_duplicates("design").set_index("design")
+    bad, missing = [], []
+    for i, design in enumerate(int(x) for x in ds["design"].values):
+        if design not in rows.index:
+            missing.append(design)
+            continue
+        try:
+            one = store.read_design(ds, i)
+        except ValueError:  # a damaged chunk: the bundle's digests (and store.verify_merged) name it
+            continue
+        dm = metrics.design_metrics(metrics.success(one["first_time"], one["min_dist"], th), one["status"])
+        row = rows.loc[design]
+        if [*(int(row[c]) for c in envs), int(row.generalists), int(row.at_least_one)] != [
+            *dm.per_env,
+            dm.generalists,
+            dm.at_least_one,
+        ]:
+            bad.append(design)
+    out = []
+    if missing:
+        out.append(f"design {_few(missing)}: held in the merged store but has no row")
+    if bad:
+        out.append(f"design {_few(bad)}: its row's counts differ from the merged store's arrays")
+    return out
+
+
+def _few(designs: list[int]) -> str:
+    more = f" and {len(designs) - 3} more" if len(designs) > 3 else ""
+    return ", ".join(map(str, designs[:3])) + more
 
 
 def row_problems(table: pd.DataFrame, cells: int | None) -> list[str]:
@@ -168,6 +286,6 @@ def _controllers(metrics_csv: Path) -> int | None:
             return None
     summary = metrics_csv.parent.parent / "summary.json"
     try:
-        return int(json.loads(summary.read_text())[metrics_csv.parent.name]["controllers"])
+        return int(bounded.json_file(summary)[metrics_csv.parent.name]["controllers"])
     except (OSError, ValueError, KeyError, TypeError):
         return None

@@ -12,11 +12,13 @@ from __future__ import annotations
 
 import json
 import os
+import shutil
 import subprocess
 import sys
+import tempfile
 from pathlib import Path, PurePosixPath
 
-from morphlearn import bundle, bundle_check, provenance, store
+from morphlearn import bounded, bundle, bundle_check, provenance, store
 
 #: Files of a bundle that a render writes (figures and the reproduction tables).
 RENDERED_SUFFIXES = (".png", ".pdf", ".caption.md")
@@ -36,40 +38,69 @@ def render_command(bundle_dir: str | Path, manifest: dict, cores: int) -> list[s
     return [*cmd, "--config", "render_only=True", f"results_dir={bundle_dir}", "--forceall"]
 
 
-def _render(cmd: list[str], root: Path, bundle_dir: str | Path) -> None:
-    """Run the render command in ``root``; BundleError if it fails."""
+def _render(cmd: list[str], root: Path, target: str | Path) -> None:
+    """Run the render command in ``root`` (it renders into ``target``); BundleError if it fails."""
     proc = subprocess.run(cmd, cwd=root, capture_output=True, text=True, env=dict(os.environ))
     if proc.returncode != 0:
-        raise bundle.BundleError(f"{bundle_dir}: the render failed (exit {proc.returncode}): {proc.stderr[-1500:]}")
+        raise bundle.BundleError(f"{target}: the render failed (exit {proc.returncode}): {proc.stderr[-1500:]}")
+
+
+def _copy_as_committed(src: Path, dst: Path, listed: dict[str, str]) -> None:
+    """``bundle.json`` and the files it lists, as a fresh clone holds them (mtimes kept)."""
+    for rel in [bundle.MANIFEST, *listed]:
+        (dst / rel).parent.mkdir(parents=True, exist_ok=True)
+        shutil.copy2(src / rel, dst / rel)
 
 
 def rerender(bundle_dir: str | Path, root: str | Path, cores: int = 2) -> list[str]:
     """Re-render ``bundle_dir`` (relative to the project ``root``) and re-seal its rendered files;
     the files whose digests changed. Raises BundleError (nothing re-sealed) if the bundle is not
-    whole before, the render fails, or anything but a rendered file changed."""
+    whole before, the render fails, or anything but a rendered file changed.
+
+    Atomic (issue 38): the render runs on a copy beside the bundle (``.rerender-<name>-*`` in
+    its parent folder, ignored by git like every folder of results/ that is not a bundle); only
+    when it succeeded and changed nothing but rendered files are those files moved into the bundle
+    and ``bundle.json`` rewritten last. A failure anywhere before leaves the bundle as it was."""
     root = Path(root)
     path = root / bundle_dir
     problems = bundle_check.check(path)
     if problems:
         raise bundle.BundleError(f"{bundle_dir}: not re-rendered: {len(problems)} problem(s) first, {problems[0]}")
     mpath = path / bundle.MANIFEST
-    manifest = json.loads(mpath.read_text())
-    cmd = render_command(bundle_dir, manifest, cores)
-    commit = provenance.git_commit()  # before the render writes into the (tracked) bundle
-    _render(cmd, root, bundle_dir)
-    changed = {rel: provenance.sha256_file(path / rel) for rel in manifest["files"]}
-    changed = {rel: d for rel, d in changed.items() if d != manifest["files"][rel]}
-    other = sorted(rel for rel in changed if not is_rendered(rel))
-    if other:
-        raise bundle.BundleError(
-            f"{bundle_dir}: the render changed {other[0]}, which it does not make; nothing re-sealed"
-        )
+    manifest = bounded.json_file(mpath)  # checked just above: a JSON object with its files
+    commit = provenance.git_commit()  # before the render writes anything
+    work = Path(tempfile.mkdtemp(prefix=f".rerender-{path.name}-", dir=path.parent))
+    try:
+        _copy_as_committed(path, work, manifest["files"])
+        rel = work.relative_to(root) if work.is_relative_to(root) else work
+        _render(render_command(rel, manifest, cores), root, rel)
+        changed = {r: provenance.sha256_file(work / r) for r in manifest["files"]}
+        changed = {r: d for r, d in changed.items() if d != manifest["files"][r]}
+        other = sorted(r for r in changed if not is_rendered(r))
+        if other:
+            raise bundle.BundleError(
+                f"{bundle_dir}: the render changed {other[0]}, which it does not make; nothing re-sealed"
+            )
+        # what the render writes beside the listed files (notebooks' HTML, logs, benchmarks): kept
+        # in the bundle, as an in-place render leaves them (check-bundle allows exactly these)
+        extra = [r for r in sorted(bundle_check.rendered_files(manifest["files"])) if (work / r).is_file()]
+        kept = {r: (path / r).read_bytes() for r in changed}  # put back if a move fails (a full disk)
+        try:
+            for r in [*changed, *extra]:
+                (path / r).parent.mkdir(parents=True, exist_ok=True)
+                os.replace(work / r, path / r)
+        except OSError:
+            for r, b in kept.items():
+                (path / r).write_bytes(b)
+            raise
+    finally:
+        shutil.rmtree(work, ignore_errors=True)
     if changed:
         manifest["files"].update(changed)
         before = manifest.get("rendered_by", {}).get("files", [])
         manifest["rendered_by"] = {
             "git_commit": commit,
-            "command": " ".join(["snakemake", *cmd[1:]]),
+            "command": " ".join(["snakemake", *render_command(bundle_dir, manifest, cores)[1:]]),
             "files": sorted({*before, *changed}),
         }
         with store.atomic_path(mpath) as tmp:

@@ -10,6 +10,7 @@ import re
 import sys
 from collections.abc import Iterator, Sequence
 from contextlib import contextmanager
+from pathlib import Path
 from typing import Any, NoReturn
 
 import numpy as np
@@ -49,6 +50,19 @@ def _position(name: str, xy: Sequence[float]) -> tuple[float, float]:
         if not (-0.5 <= v <= 0.5) or not np.isfinite(v):
             raise UsageError(f"{name} {axis} = {v} is outside the body; allowed: [-0.5, 0.5]")
     return float(xy[0]), float(xy[1])
+
+
+def _exists(path: str | Path, kind: str = "dir", given: str | None = None) -> bool:
+    """Whether ``path`` is a folder (``kind`` "dir") or a file; a name the file system cannot hold
+    (too long, a NUL byte) is a UsageError naming it (``given``: as the user typed it) in one
+    line, not an OSError traceback."""
+    try:
+        return Path(path).is_dir() if kind == "dir" else Path(path).is_file()
+    except (OSError, ValueError) as e:
+        why = getattr(e, "strerror", None) or "its name holds a NUL byte"
+        name = str(path) if given is None else given
+        name = repr(name) if len(name) <= 80 else f"{name[:70]!r}... ({len(name)} characters)"
+        raise UsageError(f"{name}: cannot be read ({why})") from None
 
 
 def _positive(name: str, v: float | None) -> None:
@@ -124,11 +138,9 @@ def cmd_verify(a: argparse.Namespace) -> int:
 
 
 def cmd_check_bundle(a: argparse.Namespace) -> int:
-    from pathlib import Path
-
     from morphlearn import bundle, bundle_check, resimulate
 
-    if not Path(a.bundle).is_dir():
+    if not _exists(a.bundle):
         raise UsageError(f"{a.bundle}: no such folder (a results bundle, e.g. results/paper)")
     for which in a.resimulate:  # before the bundle is read (the index range is checked with it)
         try:
@@ -153,15 +165,15 @@ def cmd_check_bundle(a: argparse.Namespace) -> int:
 
 
 def cmd_rerender_bundle(a: argparse.Namespace) -> int:
-    from pathlib import Path
-
     from morphlearn import bundle, bundle_rerender
 
     root = Path.cwd()
     if not (root / "Snakefile").is_file():
         raise UsageError("run it from the project's root folder (where the Snakefile is)")
-    if not (root / a.bundle / bundle.MANIFEST).is_file():
+    if not _exists(root / a.bundle / bundle.MANIFEST, "file", a.bundle):
         raise UsageError(f"{a.bundle}: no {bundle.MANIFEST} (a results bundle under the project, e.g. results/paper)")
+    if a.cores < 1:  # Snakemake would take 0 or -1 and fail later, after the bundle check
+        raise UsageError(f"--cores = {a.cores}; allowed: an integer >= 1 (Snakemake's cores for the render)")
     try:
         changed = bundle_rerender.rerender(a.bundle, root, a.cores)
     except bundle.BundleError as e:

@@ -15,6 +15,8 @@ from typing import Any
 
 import yaml
 
+from morphlearn import bounded
+
 # jsonschema imports rfc3987_syntax when it is installed (jupyter-events pulls it in), and that
 # import builds 39 lark grammars: about 2 CPU-s in every process that validates a config (the
 # Snakefile's parse and every rule job), for an "iri" format this schema does not use and whose
@@ -75,7 +77,16 @@ def _describe(err: jsonschema.ValidationError) -> str:
         bounds.append(f"<= {s['maximum']}")
     if "enum" in s:
         bounds.append(f"one of {s['enum']}")
-    allowed = f"; allowed: {s.get('type', '')} {' and '.join(bounds)}".rstrip()
+    # a schema of alternatives (oneOf: empirical.designs) has no type: its description says what
+    desc = " ".join(str(s.get("description", "")).split()).split(". ")[0].rstrip(".")
+    kind = s.get("type") or desc or "see config_schema.yaml"
+    allowed = f"; allowed: {kind} {' and '.join(bounds)}".rstrip()
+    if v == "type" and isinstance(err.instance, str) and len(err.absolute_path) > 1:
+        # Snakemake's --config 'grid={weights: 7}' gives {"grid": {"weights": "7"}}: nested values stay strings
+        allowed += (
+            " (Snakemake passes the values inside a nested --config value, like grid={weights: 7}, as "
+            "strings: give them in a --configfile YAML instead)"
+        )
     return f"{key} = {err.instance!r} is invalid ({err.message}){allowed}"
 
 
@@ -155,7 +166,40 @@ def _check_paths(cfg: dict[str, Any]) -> None:
                     check_path(f"{sec}.{name}", body[name])
 
 
-def _check_results_dir(rd: str) -> None:
+#: The project's own folders (relative to the project folder, where every run starts): no run
+#: writes results or a bundle into them or below them.
+SOURCE_FOLDERS = ("benchmarks", "config", "docs", "envs", "notebooks", "profiles", "src", "tests", "tools", "workflow")
+#: Where results may go, for the messages that refuse a folder.
+RESULTS_ALLOWED = "a folder of your own under results/ that is not a bundle (e.g. results/my-run; default 'results')"
+
+
+def _is_file(p: Path) -> bool:
+    try:
+        return p.is_file()
+    except OSError:  # a name too long for the file system: nothing is there
+        return False
+
+
+def source_folder(path: str | Path) -> str | None:
+    """Why ``path`` is no place for a run's output (None when it may be): it is the project
+    folder, one that holds it, or one of the project's source folders or inside one. Shared by
+    the ``results_dir`` and the ``bundle_dir`` guards (:func:`morphlearn.bundle.check_target`)."""
+    target, here = Path(path).resolve(), Path.cwd().resolve()
+    if target in (here, *here.parents):
+        return "is the project folder or one that holds it"
+    for name in SOURCE_FOLDERS:
+        if target.is_relative_to(here / name):
+            return f"is {'' if target == here / name else 'inside '}the project's source folder {name}/"
+    return None
+
+
+def bundle_holding(path: str | Path) -> Path | None:
+    """The results bundle (a folder with ``bundle.json``) that ``path`` is or lies inside; None."""
+    target = Path(path).resolve()
+    return next((d for d in (target, *target.parents) if _is_file(d / "bundle.json")), None)
+
+
+def _check_results_dir(rd: str, render_only: bool = False) -> None:
     p = Path(rd)
     if p.resolve() == Path(p.resolve().anchor):
         raise ConfigError(
@@ -164,6 +208,18 @@ def _check_results_dir(rd: str) -> None:
         )
     if p.exists() and not p.is_dir():
         raise ConfigError(f"results_dir = {rd!r} is an existing file; allowed: a folder (or a new path)")
+    why = source_folder(p)
+    if why:
+        raise ConfigError(f"results_dir = {rd!r} {why}; allowed: {RESULTS_ALLOWED}")
+    held = bundle_holding(p)
+    # render_only re-renders exactly the bundle named (its documented command); any other run
+    # would write shards, stores and tables into a committed bundle (issue 38)
+    if held is not None and not (render_only and held == p.resolve()):
+        where = "holds a results bundle" if held == p.resolve() else f"is inside the results bundle {held}"
+        raise ConfigError(
+            f"results_dir = {rd!r} {where} (bundle.json), which a run would write into; allowed: "
+            f"render_only=True with results_dir the bundle itself to re-render it, or {RESULTS_ALLOWED}"
+        )
 
 
 def _check_analysis(a: dict[str, Any], th: dict[str, Any]) -> None:
@@ -189,7 +245,7 @@ def _check_cross(cfg: dict[str, Any]) -> None:
     """Checks across keys that need no design grid or file (those are the settings' and each
     model's: :func:`morphlearn.settings.parse`)."""
     _check_paths(cfg)
-    _check_results_dir(cfg["results_dir"])
+    _check_results_dir(cfg["results_dir"], bool(cfg.get("render_only")))
     th = cfg["theory"]
     _check_analysis(cfg["analysis"], th)
     if cfg.get("render_only") and not (cfg["figures"]["enabled"] and th.get("enabled", True)):
@@ -240,12 +296,10 @@ class _UniqueKeyLoader(yaml.SafeLoader):
 
 def yaml_mapping(path: str | Path, what: str = "config keys") -> dict[str, Any]:
     """A YAML file whose top level is a mapping with unique keys. Every way it can be bad
-    (unreadable, not UTF-8 text, malformed, a key twice, empty, another shape) raises ValueError
-    with one line saying what, without the path (the caller names the file or the key)."""
-    try:
-        raw = Path(path).read_bytes()
-    except OSError as e:
-        raise ValueError(f"cannot read ({e.strerror})") from None
+    (unreadable, not UTF-8 text, malformed, a key twice, empty, another shape, beyond the limits of
+    :mod:`morphlearn.bounded`: its size, nesting, aliases) raises ValueError with one line saying
+    what, without the path (the caller names the file or the key)."""
+    raw = bounded.read_bytes(path)
     try:
         text = raw.decode("utf-8")
     except UnicodeDecodeError as e:
@@ -257,6 +311,7 @@ def yaml_mapping(path: str | Path, what: str = "config keys") -> dict[str, Any]:
             f"not a text file (NUL byte at offset {text.index(chr(0))}); allowed: a YAML mapping of {what}"
         )
     try:
+        bounded.check_yaml(text, _UniqueKeyLoader)  # before the composer, which recurses per level
         data = yaml.load(text, Loader=_UniqueKeyLoader)  # a SafeLoader subclass
     except yaml.reader.ReaderError as e:
         raise ValueError(

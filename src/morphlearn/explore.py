@@ -27,8 +27,8 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
+from morphlearn import bounded, bundle_check, metrics, store
 from morphlearn import bundle as bundlemod
-from morphlearn import bundle_check, metrics, store
 from morphlearn import grid as gridmod
 from morphlearn.figures import data
 from morphlearn.models import MODELS, REFERENCE
@@ -113,7 +113,7 @@ def open_source(src: Source, *, verify: bool = True) -> data.ModelResults:
         if problems:
             raise bundlemod.BundleError(f"{src.bundle}: {len(problems)} problem(s), first: {problems[0]}")
         _VERIFIED.add(src.bundle.resolve())
-    prov = json.loads((src.bundle / src.model / "metrics.provenance.json").read_text())
+    prov = bounded.json_file(src.bundle / src.model / "metrics.provenance.json")
     res = data.load_results(src.bundle, src.model, prov["config"]["thresholds"])
     if res is None:
         raise FileNotFoundError(f"{src.bundle}: no {src.model}/metrics.csv and {src.model}/merged.zarr")

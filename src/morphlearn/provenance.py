@@ -11,7 +11,7 @@ from importlib import metadata
 from pathlib import Path
 from typing import Any
 
-from morphlearn import __version__
+from morphlearn import __version__, bounded
 
 _LIBS = ("numpy", "scipy", "numba", "xarray", "zarr", "pybullet", "pandas", "snakemake")
 
@@ -125,8 +125,8 @@ def read_record(path: str | Path) -> dict[str, Any]:
     """A provenance record, its seal checked when it has one (CustodyError naming the file)."""
     path = Path(path)
     try:
-        rec = json.loads(path.read_text())
-    except (OSError, UnicodeDecodeError, ValueError) as e:
+        rec = bounded.json_file(path)
+    except ValueError as e:
         raise CustodyError(f"{path}: unreadable provenance record ({e})") from None
     if not isinstance(rec, dict):
         raise CustodyError(f"{path}: a provenance record is a JSON object, found {type(rec).__name__}")
@@ -175,19 +175,25 @@ def check_derived(path: str | Path, merged: Any = None, record: str | Path | Non
 
 def _check_in_bundle(path: Path, side: Path, digest: str) -> None:
     root = path.parent.parent
-    manifest = root / _MANIFEST
-    if not manifest.is_file():
+    if not (root / _MANIFEST).is_file():
         raise CustodyError(
             f"{side}: records no digest of {path.name} (written before custody records, or by hand), "
             f"so nothing vouches for {path}; move it aside and the metrics rule re-makes it"
         )
+    check_listed(root, [(path, digest), (side, sha256_file(side))])
+
+
+def check_listed(root: str | Path, files: list[tuple[Path, str]]) -> None:
+    """Each (file, its SHA-256) of ``files`` is listed with that digest in the ``bundle.json`` of
+    the bundle ``root`` (CustodyError naming the first that is not): what vouches for a committed
+    bundle's files that were written before they had a sealed record."""
+    manifest = Path(root) / _MANIFEST
     try:
-        listed = json.loads(manifest.read_text())["files"]
-        listed = dict(listed)
-    except (OSError, ValueError, KeyError, TypeError) as e:
+        listed = dict(bounded.json_file(manifest)["files"])
+    except (ValueError, KeyError, TypeError) as e:
         raise CustodyError(f"{manifest}: unreadable ({e})") from None
-    for p, d in ((path, digest), (side, sha256_file(side))):
-        rel = str(p.relative_to(root))
+    for p, d in files:
+        rel = Path(p).relative_to(root).as_posix()
         if listed.get(rel) != d:
             raise CustodyError(f"{p}: SHA-256 {d[:12]} differs from {_MANIFEST} (edited or damaged)")
 

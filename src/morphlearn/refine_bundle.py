@@ -32,7 +32,7 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
-from morphlearn import __version__, metrics, provenance, store
+from morphlearn import __version__, bounded, metrics, provenance, store
 from morphlearn.bundle import MANIFEST, bundle_files
 from morphlearn.empirical import resumable as rz
 from morphlearn.grid import DesignGrid
@@ -180,8 +180,8 @@ def check_target(out: Path, model: str) -> None:
     if not out.is_dir() or not any(out.iterdir()):
         return
     try:
-        by = json.loads((out / MANIFEST).read_text()).get("made_by", {})
-    except (OSError, ValueError, AttributeError):
+        by = bounded.json_file(out / MANIFEST).get("made_by", {})
+    except (ValueError, AttributeError):
         by = None
     if not isinstance(by, dict) or by.get("tool") != TOOL:
         raise rz.RefineError(

@@ -67,10 +67,17 @@ def _resimulate_model(out_dir: Path, model: str, which: list[str]) -> list[str]:
     th = metrics.Thresholds(**prov["config"]["thresholds"])
     g = gridmod.DesignGrid(m.positions_of(sci))
     wanted = [d for w in which for d in _designs_of(w, table, g)]
+    # the table's meaning first (check-bundle's check): a row whose coordinates are not its
+    # design's would otherwise pass, the design being simulated at its index's coordinates
+    from morphlearn.bundle_check import meaning_problems
+
+    meaning = [f"{folder}/metrics.csv: {p}" for p in meaning_problems(folder / "metrics.csv", table)]
     held = set(int(d) for d in merged["design"].values)
     # any row of the table, held or not: an edited row of a design whose arrays the bundle does
     # not hold is caught too (a forger has to re-simulate); the arrays are compared where held
-    problems = [f"{model} design {d}: no row in {folder}/metrics.csv" for d in wanted if d not in set(table.design)]
+    problems = meaning + [
+        f"{model} design {d}: no row in {folder}/metrics.csv" for d in wanted if d not in set(table.design)
+    ]
     todo = sorted({d for d in wanted if d in set(table.design)})
     if not todo:
         return problems
@@ -123,6 +130,11 @@ def _designs_of(which: str, table: pd.DataFrame, g: gridmod.DesignGrid) -> list[
     if which in ("best_M_L", "best_M_CF"):
         return [int(metrics.rank_designs(table, which.removeprefix("best_")).design.iloc[0])]
     if which.isdigit():
+        if int(which) >= g.size:  # a usage error (exit 2 on the command line), not a missing row
+            raise BundleError(
+                f"--resimulate {which!r}: no design {which} on this bundle's grid; allowed: a design index "
+                f"0 to {g.size - 1} ({g.n} positions per axis), canonical, best_M_L, best_M_CF or sample:K"
+            )
         return [int(which)]
     k = which.removeprefix("sample:")
     if which.startswith("sample:") and k.isdigit() and 0 < int(k) <= len(table):

@@ -12,12 +12,12 @@ stops at start with one clear line.
 from __future__ import annotations
 
 import base64
-import json
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
+from morphlearn import bounded
 from morphlearn import config as cfgmod
 
 
@@ -57,9 +57,9 @@ def unrecorded_stale(
     meta = base / "merged.zarr" / "zarr.json"
     if meta.is_file() and not recorded(meta.parent):
         try:
-            if json.loads(meta.read_text()).get("attributes", {}).get("science_sha256") != want:
+            if bounded.json_file(meta).get("attributes", {}).get("science_sha256") != want:
                 return meta.parent
-        except (OSError, ValueError):
+        except (ValueError, AttributeError):
             pass
     n = len(shard_designs)
     for i in np.unique(np.linspace(0, n - 1, min(n, SAMPLE)).round().astype(int)):

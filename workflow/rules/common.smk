@@ -51,17 +51,8 @@ LEARNER_SHARDS = learner_experiment.shards(S) if S.learners.enabled else []
 # clears a lock (Snakemake gives the Snakefile no other way to tell that mode than its arguments).
 if not S.render_only and workflow.is_main_process and "--unlock" not in sys.argv:
     for _m in SIMULATED:
+        # (a results bundle is no results_dir but to re-render it: config._check_results_dir)
         _stale = results_check.unrecorded_stale(R, _m, SCIENCE[_m], SHARDS[_m])
-        if _stale and Path(R, "bundle.json").exists():
-            # a results bundle (committed, e.g. results/paper): never advise deleting its files
-            print(
-                f"morphlearn: results_dir = {R!r} holds a results bundle (bundle.json) made by "
-                f"another config ({_stale} differs); allowed: a results folder of this config's own "
-                f"(e.g. results), or render_only=True to re-render the bundle (README, Re-rendering "
-                f"figures)",
-                file=sys.stderr,
-            )
-            sys.exit(2)
         if _stale:
             print(
                 f"morphlearn: {_stale} was made by another science config or shard count and "

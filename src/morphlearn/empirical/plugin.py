@@ -10,7 +10,7 @@ reference engine, registered as ``empirical``.
 from __future__ import annotations
 
 import argparse
-import json
+import os
 import platform
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass
@@ -20,6 +20,7 @@ from typing import TYPE_CHECKING, Any, ClassVar
 
 import numpy as np
 
+from morphlearn import bounded
 from morphlearn.config import ConfigError
 from morphlearn.empirical.options import SweepOptions
 from morphlearn.empirical.params import EmpiricalParams, load_params
@@ -205,7 +206,7 @@ class Physics(Model):
             positions = self.positions_of(sci)
             weights = int(merged.sizes["w1"])
             held = tuple(int(d) for d in sci["designs"])
-            prov = json.loads((Path(path) / self.name / "metrics.provenance.json").read_text())
+            prov = bounded.json_file(Path(path) / self.name / "metrics.provenance.json")
             thresholds = dict(prov["config"]["thresholds"])
         except Exception as e:  # a damaged store: say which and why, in one line
             raise ConfigError(f"{key} = {path!r}: unreadable {self.name} results ({e})") from None
@@ -345,7 +346,7 @@ class Physics(Model):
         from morphlearn.cli import UsageError, c_stdout_to_stderr
 
         path = a.morphology or self.default_morphology
-        if not Path(path).is_file():
+        if not os.path.exists(path):  # a device or a FIFO exists: the bounded reader says what it is
             raise UsageError(f"--morphology {path}: no such file (a YAML of body parameters)")
         try:
             params = load_params(path)

@@ -205,7 +205,8 @@ class Theory(Model):
         steps = TheoryParams.max_steps if a.dt is None else max(TheoryParams.max_steps, math.ceil(horizon / a.dt))
         if steps > MAX_RK4_STEPS:
             raise UsageError(
-                f"--dt {a.dt} needs {steps} RK4 steps per trajectory over the horizon {horizon}; "
+                # :.3g: the count of --dt 1e-300 has 300 digits
+                f"--dt {a.dt:g} needs {steps:.3g} RK4 steps per trajectory over the horizon {horizon:g}; "
                 f"allowed: --dt >= {horizon / MAX_RK4_STEPS:g}"
             )
         p = TheoryParams(
