@@ -91,3 +91,15 @@ def load(path: Path, ident: str, shape: tuple[int, int, int]) -> Cells | None:
         print(f"partial design {path}: its arrays do not match their digest; not resumed", flush=True)
         return None
     return cells
+
+
+def resume(path: Path | None, l1: Any, l2: Any, weights: np.ndarray, params: Any, options: Any) -> tuple[str, Cells]:
+    """A design's evaluation starts here: its identity and the cells of its partial file (said when
+    resumed), or empty cells (no file, or one made for another evaluation)."""
+    m = len(weights)
+    ident = identity(l1, l2, weights, params, options) if path is not None else ""
+    cells = load(path, ident, (4, m, m)) if path is not None else None
+    if cells is None:
+        return ident, Cells.empty(m)
+    print(f"partial design {path}: resumed, {int(cells.simulated.sum())} episodes done", flush=True)
+    return ident, cells

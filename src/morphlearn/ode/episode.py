@@ -51,12 +51,7 @@ def evaluate_design(
         raise ValueError("early_stop (the reach bound) is not available in the ode model; allowed: false")
     w = np.asarray(weights, dtype=np.float64)
     m = len(w)
-    ident = partial_cells.identity(l1, l2, w, params, options) if partial is not None else ""
-    cells = partial_cells.load(partial, ident, (4, m, m)) if partial is not None else None
-    if cells is None:
-        cells = partial_cells.Cells.empty(m)
-    else:
-        print(f"partial design {partial}: resumed, {int(cells.simulated.sum())} episodes done", flush=True)
+    ident, cells = partial_cells.resume(partial, l1, l2, w, params, options)
     first, dist, status, have = cells.first_time, cells.min_dist, cells.status, cells.simulated
     total = 4 * m * m
     near = options.near * params.contact_distance
