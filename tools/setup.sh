@@ -11,13 +11,16 @@ PY=${PYTHON:-python3}
 # config's dry run took 27.6 s without and 12.5 s with it).
 .venv/bin/uv pip install -q --compile-bytecode --python .venv/bin/python -r requirements.lock
 # The ode model's C core (morphlearn.ode._core) builds against Debian's libode-dev (ODE 0.16,
-# double precision; the exact Debian 12 package is pinned): installed here when missing and run as root (CI, fresh machines); otherwise
-# one line says what to install, and every other model works without it.
+# double precision; the Debian 12 package pinned): installed here when missing and run as root
+# (CI, fresh machines); otherwise, or when apt fails (offline), one line says what to install and
+# every other model works without it.
+ODE_HINT="libode-dev missing: the ode model needs it (sudo apt-get install libode-dev, then bash tools/setup.sh again)"
 if [ ! -f /usr/include/ode/ode.h ]; then
   if [ "$(id -u)" = 0 ] && command -v apt-get >/dev/null 2>&1; then
-    apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq libode-dev=2:0.16.2-1 >/dev/null
+    { apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq libode-dev=2:0.16.2-1 >/dev/null; } ||
+      echo "$ODE_HINT"
   else
-    echo "libode-dev missing: the ode model needs it (sudo apt-get install libode-dev, then bash tools/setup.sh again)"
+    echo "$ODE_HINT"
   fi
 fi
 # --reinstall-package: rebuild the C extension every time (a library installed since is picked up)
