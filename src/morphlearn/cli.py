@@ -1,4 +1,6 @@
-"""Command line: ``morphlearn design`` evaluates one design; ``morphlearn verify`` spot-checks."""
+"""Command line of morphlearn: evaluate one design in any model (design), check stored results
+(verify, check-bundle, compare), re-render a bundle and re-seal what changed (rerender-bundle),
+and run the workflow after checking its config files (run). 'morphlearn VERB --help' for each."""
 
 from __future__ import annotations
 
@@ -280,9 +282,13 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--version", action=_Version, nargs=0, help="print version and git commit, and exit")
     sub = p.add_subparsers(dest="cmd", required=True)
     d = sub.add_parser("design", help="evaluate one design over the M x M weight grid")
-    d.add_argument("--model", choices=list(MODELS), default=REFERENCE)
-    d.add_argument("--l1", nargs=2, type=float, required=True, metavar=("X", "Y"))
-    d.add_argument("--l2", nargs=2, type=float, required=True, metavar=("X", "Y"))
+    d.add_argument("--model", choices=list(MODELS), default=REFERENCE, help=f"the model to run ({REFERENCE})")
+    d.add_argument(
+        "--l1", nargs=2, type=float, required=True, metavar=("X", "Y"), help="sensor 1 on the body, x y in [-0.5, 0.5]"
+    )
+    d.add_argument(
+        "--l2", nargs=2, type=float, required=True, metavar=("X", "Y"), help="sensor 2 on the body, x y in [-0.5, 0.5]"
+    )
     d.add_argument("--weights", type=int, default=121, metavar="M", help="weights per synapse (121)")
     d.add_argument("--r", type=float, default=None, help="light distance (theory: 4)")
     d.add_argument("--horizon", type=float, default=None, help="simulated time (theory: 500)")
