@@ -452,22 +452,28 @@ def test_a_bad_configfile_snakemake_reads_first_stops_before_anything_is_written
     assert sorted(p.relative_to(wf) for p in wf.rglob("*")) == before  # nothing written
 
 
+def _morphlearn_run_dry(wf: Path, configfile: str, timeout: int) -> tuple[int, list[str]]:
+    """`morphlearn run -n` in ``wf`` with small.yaml and ``configfile``: its exit code and the
+    non-empty lines it printed."""
+    exe = Path(sys.executable).with_name("morphlearn")
+    proc = subprocess.run(
+        [str(exe), "run", "-n", "--cores", "1", "--configfile", "small.yaml", configfile],
+        cwd=wf,
+        capture_output=True,
+        text=True,
+        timeout=timeout,
+    )
+    return proc.returncode, [ln for ln in (proc.stdout + proc.stderr).splitlines() if ln.strip()]
+
+
 @pytest.mark.parametrize("kind", ["empty", "binary", "list"])
 def test_morphlearn_run_refuses_a_bad_configfile_in_one_line(wf: Path, kind: str) -> None:
     """`morphlearn run` (snakemake with the same arguments) checks the --configfile files before
     Snakemake reads them: the same file as above is refused in one line naming it, exit 2."""
     (wf / "bad.yaml").write_bytes(BAD_FILES[kind][0])
-    exe = Path(sys.executable).with_name("morphlearn")
     before = sorted(p.relative_to(wf) for p in wf.rglob("*"))
-    proc = subprocess.run(
-        [str(exe), "run", "-n", "--cores", "1", "--configfile", "small.yaml", "bad.yaml"],
-        cwd=wf,
-        capture_output=True,
-        text=True,
-        timeout=300,
-    )
-    said = [ln for ln in (proc.stdout + proc.stderr).splitlines() if ln.strip()]
-    assert proc.returncode == 2 and len(said) == 1, said
+    returncode, said = _morphlearn_run_dry(wf, "bad.yaml", timeout=300)
+    assert returncode == 2 and len(said) == 1, said
     assert said[0].startswith("morphlearn run: config error: bad.yaml: "), said
     assert sorted(p.relative_to(wf) for p in wf.rglob("*")) == before  # nothing written
 
@@ -661,16 +667,8 @@ def test_aliases_within_the_limits_still_read(tmp_path: Path) -> None:
 def test_morphlearn_run_refuses_an_unbounded_configfile_at_once(wf: Path, kind: str, tmp_path: Path) -> None:
     """Was: /dev/zero read until the machine ran out of memory (23.7 GB); a deep file, 2,995 lines."""
     p = UNBOUNDED[kind][0](tmp_path)
-    exe = Path(sys.executable).with_name("morphlearn")
-    proc = subprocess.run(
-        [str(exe), "run", "-n", "--cores", "1", "--configfile", "small.yaml", str(p)],
-        cwd=wf,
-        capture_output=True,
-        text=True,
-        timeout=60,
-    )
-    said = [ln for ln in (proc.stdout + proc.stderr).splitlines() if ln.strip()]
-    assert proc.returncode == 2 and len(said) == 1, said
+    returncode, said = _morphlearn_run_dry(wf, str(p), timeout=60)
+    assert returncode == 2 and len(said) == 1, said
     assert said[0].startswith(f"morphlearn run: config error: {p}: {UNBOUNDED[kind][1]}"), said
 
 

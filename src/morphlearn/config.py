@@ -158,12 +158,12 @@ def _check_paths(cfg: dict[str, Any]) -> None:
         sec, _, name = key.rpartition(".")
         holder = cfg.get(sec, {}) if sec else cfg
         check_path(key, holder.get(name) if isinstance(holder, dict) else None)
-    # every model section's body file and bundle (the physics models share these keys)
+    # every other model section's body file and bundle (the physics models share these keys)
     for sec, body in cfg.items():
-        if isinstance(body, dict) and sec not in {k.partition(".")[0] for k in PATH_KEYS if "." in k}:
-            for name in ("morphology", "results_from"):
-                if isinstance(body.get(name), str):
-                    check_path(f"{sec}.{name}", body[name])
+        for name in ("morphology", "results_from"):
+            key = f"{sec}.{name}"
+            if isinstance(body, dict) and key not in PATH_KEYS and isinstance(body.get(name), str):
+                check_path(key, body[name])
 
 
 #: The project's own folders (relative to the project folder, where every run starts): no run

@@ -72,6 +72,8 @@ class Physics(Model):
     cli_options = ("morphology",)
     #: The body file used when the section or ``morphology`` option names none.
     default_morphology: ClassVar[str] = DEFAULT_MORPHOLOGY
+    #: Where the measured miss rate of its adaptive weight grid is documented (captions).
+    levers_doc: ClassVar[str] = "docs/empirical_levers.md"
 
     # -- settings ----------------------------------------------------------------------------------
     def parse(self, sec: Mapping[str, Any], shared: Shared) -> PhysicsSettings:
@@ -322,8 +324,9 @@ class Physics(Model):
     def positions_of(self, science: Mapping[str, Any]) -> int:
         return int(science["positions_per_axis"])
 
-    def describe(self, science: Mapping[str, Any], n_designs: int, m: int) -> str:
-        pr = science.get("params", {})
+    def how_made(self, science: Mapping[str, Any]) -> str:
+        """How a record's designs were simulated (mirror derivation, refine bundle, adaptive grid),
+        for :meth:`describe`."""
         how = "one of each mirror pair simulated, the other derived" if science.get("mirror_derive") else "simulated"
         if science.get("refine"):  # a refine bundle (morphlearn.refine_bundle): say where it comes from
             how += " one by one, every cell, by tools/refine_design.py (run keys in the store's record)"
@@ -331,8 +334,13 @@ class Physics(Model):
             how += (
                 f", weight grid refined adaptively around successes and near misses (within "
                 f"{ad.get('near')} contact distances; cells not simulated count as failures; "
-                "measured miss rate in docs/empirical_levers.md)"
+                f"measured miss rate in {self.levers_doc})"
             )
+        return how
+
+    def describe(self, science: Mapping[str, Any], n_designs: int, m: int) -> str:
+        pr = science.get("params", {})
+        how = self.how_made(science)
         return (
             f"{n_designs} designs {how} on the {science.get('positions_per_axis')}-point grid, "
             f"{m} weights per synapse; light distance {pr.get('light_distance', float('nan')):.4g}, "

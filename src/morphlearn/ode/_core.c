@@ -36,7 +36,7 @@
 
 enum { GROUP_NONE = 0, GROUP_ROBOT = 1, GROUP_ENV = 2, GROUP_GROUND = 3 };
 
-/* Body parameters, in this order in the Python tuple (morphlearn.ode.core.PARAM_ORDER). */
+/* Body parameters, in this order in the Python tuple (morphlearn.ode.core.params_tuple). */
 typedef struct {
     double body_mass, wheel_mass, castor_mass, wheel_radius, max_speed, max_torque, wheel_setback,
         light_radius, gravity, dt, success_radius;
@@ -181,13 +181,6 @@ static void control(const World *W, const Params *p, double w1, double w2, doubl
     dJointSetHingeParam(W->joint[J_LEFT], dParamFMax, p->max_torque);
 }
 
-/* One episode. Sensor points and light in the authors' frame. Each step t = 0 .. steps-1:
- * collide -> read the chassis (state before the step) -> controller -> motors -> dWorldStep ->
- * empty the contact group. Writes the first step at which the chassis centre is within
- * success_radius of the light as placed (-1: none), the closest 2D distance up to that step (or
- * over the whole episode if !stop_at_success), the steps simulated, and whether the state stayed
- * finite. With path != NULL, writes the chassis (x, y) read at each step, in the project's frame
- * (2 * steps doubles; the caller fills NaN). */
 static double cpu_now(void) {
     struct timespec t;
     clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
@@ -200,6 +193,13 @@ typedef struct {
     double collide, step;
 } Timing;
 
+/* One episode. Sensor points and light in the authors' frame. Each step t = 0 .. steps-1:
+ * collide -> read the chassis (state before the step) -> controller -> motors -> dWorldStep ->
+ * empty the contact group. Writes the first step at which the chassis centre is within
+ * success_radius of the light as placed (-1: none), the closest 2D distance up to that step (or
+ * over the whole episode if !stop_at_success), the steps simulated, and whether the state stayed
+ * finite. With path != NULL, writes the chassis (x, y) read at each step, in the project's frame
+ * (2 * steps doubles; the caller fills NaN). */
 static void episode(const Params *p, const double *s1, const double *s2, double w1, double w2, double lx,
                     double ly, int stop_at_success, int64_t *first, double *dmin, int64_t *steps,
                     uint8_t *finite, double *path, Timing *timing) {
@@ -245,6 +245,20 @@ static void episode(const Params *p, const double *s1, const double *s2, double 
 
 /* -- Python ----------------------------------------------------------------------------------- */
 
+/* "O&" converter: the params tuple of morphlearn.ode.core.params_tuple into Params. */
+static int parse_params(PyObject *o, void *out) {
+    Params *p = (Params *)out;
+    return PyArg_ParseTuple(o, "ddddddddddld;params: a tuple of 12 body values (core.params_tuple)", &p->body_mass,
+                            &p->wheel_mass, &p->castor_mass, &p->wheel_radius, &p->max_speed, &p->max_torque,
+                            &p->wheel_setback, &p->light_radius, &p->gravity, &p->dt, &p->steps, &p->success_radius);
+}
+
+/* project frame (x forward, y left) -> the authors' frame (x right, y forward): exact */
+static void to_authors(const double *xy, double *out) {
+    out[0] = -xy[1];
+    out[1] = xy[0];
+}
+
 static int get_buffer(PyObject *o, Py_buffer *b, const char *name, const char *fmt, Py_ssize_t n, int writable) {
     if (PyObject_GetBuffer(o, b, PyBUF_C_CONTIGUOUS | PyBUF_FORMAT | (writable ? PyBUF_WRITABLE : 0)) < 0) {
         PyErr_Format(PyExc_TypeError, "%s: a C-contiguous%s buffer is required", name, writable ? " writable" : "");
@@ -268,10 +282,8 @@ static PyObject *run_batch(PyObject *self, PyObject *args) {
     PyObject *o[8];
     int stop_at_success, timed = 0;
     Py_ssize_t n;
-    if (!PyArg_ParseTuple(args, "(ddddddddddld)nOOOOOOOpO|p", &p.body_mass, &p.wheel_mass, &p.castor_mass,
-                          &p.wheel_radius, &p.max_speed, &p.max_torque, &p.wheel_setback, &p.light_radius,
-                          &p.gravity, &p.dt, &p.steps, &p.success_radius, &n, &o[0], &o[1], &o[2], &o[3], &o[4],
-                          &o[5], &o[6], &stop_at_success, &o[7], &timed))
+    if (!PyArg_ParseTuple(args, "O&nOOOOOOOpO|p", parse_params, &p, &n, &o[0], &o[1], &o[2], &o[3], &o[4], &o[5],
+                          &o[6], &stop_at_success, &o[7], &timed))
         return NULL;
     if (n < 0 || p.steps < 1) {
         PyErr_SetString(PyExc_ValueError, "n must be >= 0 and steps >= 1");
@@ -301,10 +313,11 @@ static PyObject *run_batch(PyObject *self, PyObject *args) {
     Timing timing = {0, 0};
     Py_BEGIN_ALLOW_THREADS;
     for (Py_ssize_t i = 0; i < n; i++) {
-        const double *s = sen + 4 * i, *l = li + 2 * i;
-        /* project frame (x forward, y left) -> authors' frame (x right, y forward) */
-        const double s1[2] = {-s[1], s[0]}, s2[2] = {-s[3], s[2]};
-        episode(&p, s1, s2, w[2 * i], w[2 * i + 1], -l[1], l[0], stop_at_success, (int64_t *)b[3].buf + i,
+        double s1[2], s2[2], l[2];
+        to_authors(sen + 4 * i, s1);
+        to_authors(sen + 4 * i + 2, s2);
+        to_authors(li + 2 * i, l);
+        episode(&p, s1, s2, w[2 * i], w[2 * i + 1], l[0], l[1], stop_at_success, (int64_t *)b[3].buf + i,
                 (double *)b[4].buf + i, (int64_t *)b[5].buf + i, (uint8_t *)b[6].buf + i,
                 with_path ? (double *)b[7].buf + 2 * i * p.steps : NULL, timed ? &timing : NULL);
     }
@@ -330,14 +343,15 @@ static PyObject *vec3(const dReal *v) { return Py_BuildValue("(ddd)", v[0], v[1]
 static PyObject *facts(PyObject *self, PyObject *args) {
     Params p;
     double sen[4], li[2], w1, w2;
-    if (!PyArg_ParseTuple(args, "(ddddddddddld)(dddd)(dd)dd", &p.body_mass, &p.wheel_mass, &p.castor_mass,
-                          &p.wheel_radius, &p.max_speed, &p.max_torque, &p.wheel_setback, &p.light_radius,
-                          &p.gravity, &p.dt, &p.steps, &p.success_radius, &sen[0], &sen[1], &sen[2], &sen[3],
-                          &li[0], &li[1], &w1, &w2))
+    if (!PyArg_ParseTuple(args, "O&(dddd)(dd)dd", parse_params, &p, &sen[0], &sen[1], &sen[2], &sen[3], &li[0],
+                          &li[1], &w1, &w2))
         return NULL;
-    const double s1[2] = {-sen[1], sen[0]}, s2[2] = {-sen[3], sen[2]};
+    double s1[2], s2[2], l[2];
+    to_authors(sen, s1);
+    to_authors(sen + 2, s2);
+    to_authors(li, l);
     World W;
-    world_build(&W, &p, s1, s2, -li[1], li[0]);
+    world_build(&W, &p, s1, s2, l[0], l[1]);
     PyObject *out = PyDict_New(), *bodies = PyList_New(0), *joints = PyList_New(0), *pairs = PyList_New(0);
     dVector3 g;
     dWorldGetGravity(W.world, g);

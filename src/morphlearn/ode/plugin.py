@@ -26,6 +26,7 @@ class Ode(Physics):
     env_file = "envs/empirical.yaml"
     default_morphology = "config/authors_body.yaml"
     resumes_inside_design = True  # ~30 core-minutes a design at 121 x 121: resume inside it
+    levers_doc = "docs/ode.md"
 
     def parse(self, sec: Mapping[str, Any], shared: Shared) -> Any:
         from morphlearn.config import ConfigError
@@ -51,11 +52,8 @@ class Ode(Physics):
 
     def describe(self, science: Mapping[str, Any], n_designs: int, m: int) -> str:
         pr = science.get("params", {})
-        how = "one of each mirror pair simulated, the other derived" if science.get("mirror_derive") else "simulated"
-        if ad := science.get("adaptive_weights"):
-            how += f", weight grid refined adaptively (near {ad.get('near')}; miss rate in docs/ode.md)"
         return (
-            f"{n_designs} designs {how} in ODE (the authors' robot and world, docs/ode.md) on the "
+            f"{n_designs} designs {self.how_made(science)} in ODE (the authors' robot and world, docs/ode.md) on the "
             f"{science.get('positions_per_axis')}-point grid, {m} weights per synapse; gravity "
             f"{pr.get('gravity')}, {pr.get('steps')} steps of dt = {pr.get('dt')}, every episode to its "
             "first success (contact distance + 2^-10)"
