@@ -21,13 +21,14 @@ from pathlib import Path
 
 import numpy as np
 
-from morphlearn.empirical import EpisodeRunner, load_params
+from morphlearn.empirical import EpisodeRunner
 from morphlearn.empirical import evaluate_design as evaluate_pybullet
-from morphlearn.empirical.options import SweepOptions
 from morphlearn.grid import ENV_ANGLES_DEG, DesignGrid, canonical_design, weights
 from morphlearn.metrics import design_metrics
 from morphlearn.mujoco.episode import BatchRunner
 from morphlearn.mujoco.episode import evaluate_design as evaluate_mujoco
+from morphlearn.physics.options import SweepOptions
+from morphlearn.physics.params import load_params
 
 ROOT = Path(__file__).resolve().parents[1]
 

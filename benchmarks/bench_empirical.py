@@ -41,9 +41,7 @@ import numpy as np
 import pybullet as pb
 import yaml
 
-from morphlearn.empirical import EmpiricalParams, EpisodeRunner, evaluate_design, load_params
-from morphlearn.empirical.options import SweepOptions
-from morphlearn.empirical.refine import DEFAULT_NEAR
+from morphlearn.empirical import EpisodeRunner, evaluate_design
 from morphlearn.empirical.robot import (
     LEFT_WHEEL,
     RIGHT_WHEEL,
@@ -53,6 +51,9 @@ from morphlearn.empirical.robot import (
     configure,
 )
 from morphlearn.grid import DesignGrid, light_positions, weights
+from morphlearn.physics.options import SweepOptions
+from morphlearn.physics.params import EmpiricalParams, load_params
+from morphlearn.physics.refine import DEFAULT_NEAR
 
 Case = tuple[tuple[float, float], tuple[float, float], float, float, int]
 

@@ -24,10 +24,11 @@ from pathlib import Path
 
 import numpy as np
 
-from morphlearn.empirical import EpisodeRunner, load_params
+from morphlearn.empirical import EpisodeRunner
 from morphlearn.grid import DesignGrid, canonical_design, weights
 from morphlearn.mujoco.episode import BatchRunner
 from morphlearn.mujoco.model import LEFT, RIGHT
+from morphlearn.physics.params import load_params
 
 ROOT = Path(__file__).resolve().parents[1]
 

@@ -29,11 +29,11 @@ from pathlib import Path
 
 import numpy as np
 
-from morphlearn.empirical import load_params
-from morphlearn.empirical.options import DEFAULT_MARGIN, SweepOptions
 from morphlearn.grid import DesignGrid, canonical_design, weights
 from morphlearn.mujoco.episode import BatchRunner, evaluate_design
 from morphlearn.mujoco.mjwarp import WarpBatchRunner, device_name, resolve_device
+from morphlearn.physics.options import DEFAULT_MARGIN, SweepOptions
+from morphlearn.physics.params import load_params
 
 ROOT = Path(__file__).resolve().parents[1]
 

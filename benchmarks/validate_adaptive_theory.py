@@ -1,6 +1,6 @@
 """The adaptive weight grid, validated on the theory model (where the exhaustive answer is known).
 
-Replays the refinement (``morphlearn.empirical.refine``, vectorised replay) on every design's
+Replays the refinement (``morphlearn.physics.refine``, vectorised replay) on every design's
 exhaustive success maps of a merged theory store, optionally on a coarser sub-grid of its
 weights (``--every 12`` turns 121 weights into the 11 of the empirical survey), and reports the
 cells it would simulate, the successes it would miss and what that does to the metrics.
@@ -18,7 +18,7 @@ import numpy as np
 from scipy import stats
 
 from morphlearn import metrics, store
-from morphlearn.empirical.refine import DEFAULT_NEAR, DEFAULT_STRIDE, replay_mask
+from morphlearn.physics.refine import DEFAULT_NEAR, DEFAULT_STRIDE, replay_mask
 
 
 def main() -> None:

@@ -33,10 +33,10 @@ from pathlib import Path
 
 import numpy as np
 
-from morphlearn.empirical import load_params
 from morphlearn.empirical.episode import EpisodeRunner
-from morphlearn.empirical.refine import DEFAULT_NEAR, DEFAULT_STRIDE, replay_mask
 from morphlearn.grid import ENV_MIRROR, DesignGrid, weights
+from morphlearn.physics.params import load_params
+from morphlearn.physics.refine import DEFAULT_NEAR, DEFAULT_STRIDE, replay_mask
 
 PAPER_BEST = ((-0.5, -0.25), (0.5, 0.25))
 MARGIN = 2.0

@@ -10,9 +10,9 @@ from pathlib import Path
 
 import numpy as np
 
-from morphlearn.empirical.params import load_params
 from morphlearn.grid import DesignGrid, weights
 from morphlearn.mujoco.episode import BatchRunner
+from morphlearn.physics.params import load_params
 
 ROOT = Path(__file__).resolve().parents[1]
 

@@ -8,7 +8,7 @@ counts the flips between a design's simulated outcomes and those derived from it
 rows are not mirror-symmetric and the engine is symmetric only to rounding. One ``.npz`` per design
 in OUT (resumable: finished designs are kept).
 
-``adaptive STORE``: replays the adaptive weight grid (:func:`morphlearn.empirical.refine.misses`)
+``adaptive STORE``: replays the adaptive weight grid (:func:`morphlearn.physics.refine.misses`)
 on the exhaustive outcomes in a merged store (e.g. ``results/ode-paper-run/ode/merged.zarr``, every
 cell simulated) at several ``--near`` values: the successes and generalists it would miss and the
 share of episodes it would simulate.
@@ -28,9 +28,9 @@ from pathlib import Path
 
 import numpy as np
 
-from morphlearn.empirical.params import load_params
-from morphlearn.empirical.refine import misses
 from morphlearn.grid import DesignGrid, weights
+from morphlearn.physics.params import load_params
+from morphlearn.physics.refine import misses
 from morphlearn.store import mirror_arrays
 
 ROOT = Path(__file__).resolve().parents[1]

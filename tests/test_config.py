@@ -8,7 +8,7 @@ import pytest
 import yaml
 from conftest import ROOT, copy_workflow, snakemake, written_results
 
-from morphlearn import config, settings
+from morphlearn import config, configure
 
 
 def base() -> dict:
@@ -32,7 +32,7 @@ def base() -> dict:
 def test_bad_values_name_the_key(patch: dict, key: str, allowed: str) -> None:
     cfg = config.deep_merge(base(), patch)
     with pytest.raises(config.ConfigError) as e:
-        settings.parse(cfg)
+        configure.parse(cfg)
     msg = str(e.value)
     assert key in msg and allowed in msg and "\n" not in msg
 

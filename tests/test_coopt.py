@@ -10,7 +10,7 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from morphlearn import config, provenance, rules, settings
+from morphlearn import config, configure, provenance, rules, settings
 from morphlearn.coopt import experiment as ex
 from morphlearn.coopt.landscape import landscape
 from morphlearn.coopt.setups import CANONICAL, decode, paper_setups
@@ -116,7 +116,7 @@ def test_landscape_contains_the_two_weight_slice() -> None:
 def test_bad_coopt_config_is_refused(section: dict, match: str) -> None:
     cfg = config.read("config.yaml")
     with pytest.raises(config.ConfigError, match=match):
-        settings.parse(cfg | {"coopt": section})
+        configure.parse(cfg | {"coopt": section})
 
 
 def test_stage_end_to_end_on_a_tiny_config(tmp_path) -> None:
@@ -139,7 +139,7 @@ def test_stage_end_to_end_on_a_tiny_config(tmp_path) -> None:
             "bootstrap": 100,
         },
     }
-    s = settings.parse(cfg)
+    s = configure.parse(cfg)
     assert stage.variant_names(s.coopt) == ["random", "cmaes-0.5"]
     land = [tmp_path / f"{d}.json" for d in stage.LANDSCAPE_DESIGNS]
     for d, p in zip(stage.LANDSCAPE_DESIGNS, land, strict=True):

@@ -12,7 +12,7 @@ import pytest
 import yaml
 from conftest import ROOT, copy_workflow, job_stats, snakemake
 
-from morphlearn import config, design_cache, models, rules, settings, store
+from morphlearn import config, configure, design_cache, models, rules, settings, store
 
 SMOKE = config.load(ROOT / "config.yaml", [ROOT / "config/smoke.yaml"])
 # smoke, with two empirical designs (plus mirror images) so that both models can be re-sharded
@@ -109,7 +109,7 @@ def test_reshard_recomputes_nothing_and_merges_the_same_bytes(tmp_path: Path) ->
 
 def test_killed_shard_resumes_and_damaged_designs_are_recomputed(tmp_path: Path, capsys: pytest.CaptureFixture) -> None:
     # 9 shards of the 45 smoke designs: 5 in shard 0 (seconds)
-    s = settings.parse(config.deep_merge(SMOKE, {"results_dir": str(tmp_path / "results"), "sweep": {"shards": 9}}))
+    s = configure.parse(config.deep_merge(SMOKE, {"results_dir": str(tmp_path / "results"), "sweep": {"shards": 9}}))
     theory = models.get("theory")
     out = tmp_path / "shard_0.nc"
     rules.run_shard(s, "theory", 0, out)
@@ -128,7 +128,7 @@ def test_killed_shard_resumes_and_damaged_designs_are_recomputed(tmp_path: Path,
     assert out.read_bytes() == first
 
     # another science config never reuses these designs: it has its own folder
-    other = settings.parse(config.deep_merge(dict(s.source), {"theory": {"horizon": 400.0}}))
+    other = configure.parse(config.deep_merge(dict(s.source), {"theory": {"horizon": 400.0}}))
     assert design_cache.cache_dir(s.results_dir, "theory", theory.science(other)) != folder
     assert np.array_equal(designs, theory.shard_designs(other)[0])
 
@@ -136,7 +136,7 @@ def test_killed_shard_resumes_and_damaged_designs_are_recomputed(tmp_path: Path,
 def test_theory_shard_saves_each_batch_as_it_finishes(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
     """A theory shard killed mid-way keeps the designs of its finished batches (not only of
     finished shards): the kernel reports each batch, and the cache saves it at once."""
-    s = settings.parse(config.deep_merge(SMOKE, {"results_dir": str(tmp_path / "results"), "sweep": {"shards": 9}}))
+    s = configure.parse(config.deep_merge(SMOKE, {"results_dir": str(tmp_path / "results"), "sweep": {"shards": 9}}))
     designs = models.get("theory").shard_designs(s)[0]
     folder = design_cache.cache_dir(s.results_dir, "theory", models.get("theory").science(s))
     import morphlearn.theory as theory
@@ -179,7 +179,7 @@ def test_adding_designs_to_a_physics_run_reuses_the_designs_done(
         section |= {"include_mirrors": False, "params": {"light_distance": 2.5, "steps": 100}}
         cfg = {"results_dir": str(tmp_path / "r"), "grid": {"positions_per_axis": 3}, "mujoco": section}
         cfg |= {"figures": {"enabled": False}, "empirical": {"enabled": False}}
-        return settings.parse(config.deep_merge(SMOKE, cfg))
+        return configure.parse(config.deep_merge(SMOKE, cfg))
 
     monkeypatch.chdir(ROOT)  # the body file is named relative to the project root
     a, b = parse(one), parse(two)

@@ -9,9 +9,11 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from morphlearn.empirical import EmpiricalParams, EpisodeRunner, evaluate_design, load_params
+from morphlearn import configure
+from morphlearn.empirical import EpisodeRunner, evaluate_design
 from morphlearn.empirical.optimise import VARIABLES, optimise, select
 from morphlearn.grid import ENV_MIRROR, canonical_design
+from morphlearn.physics.params import EmpiricalParams, load_params
 
 MORPHOLOGY = Path(__file__).resolve().parents[1] / "config" / "empirical_morphology.yaml"
 
@@ -172,7 +174,7 @@ def test_mirror_derive_simulates_one_of_each_pair(tmp_path: Path) -> None:
     derives the other (env mirrored, w1 <-> w2); the science record says so; a config that would
     derive designs it does not list is refused by name."""
     from morphlearn import config as cfgmod
-    from morphlearn import models, rules, settings, store
+    from morphlearn import models, rules, store
     from morphlearn.grid import DesignGrid
 
     root = Path(__file__).resolve().parents[1]
@@ -190,10 +192,10 @@ def test_mirror_derive_simulates_one_of_each_pair(tmp_path: Path) -> None:
     g = DesignGrid(5)
     d = g.index_of((-0.5, -0.25), (0.5, 0.25))
     pair = sorted({d, int(g.mirror(d))})
-    s, emp = settings.parse(cfg), models.get("empirical")
+    s, emp = configure.parse(cfg), models.get("empirical")
     assert emp.designs(s).tolist() == [pair[0]]
     assert emp.science(s)["mirror_derive"] is True
-    off = settings.parse(cfgmod.deep_merge(cfg, {"empirical": {"mirror_derive": False}}))
+    off = configure.parse(cfgmod.deep_merge(cfg, {"empirical": {"mirror_derive": False}}))
     assert "mirror_derive" not in emp.science(off)  # old results keep their digest
     rules.run_shard(s, "empirical", 0, tmp_path / "shard_0.nc")
     rules.run_merge(s, "empirical", [str(tmp_path / "shard_0.nc")], tmp_path / "merged.zarr")
@@ -203,7 +205,7 @@ def test_mirror_derive_simulates_one_of_each_pair(tmp_path: Path) -> None:
     for k, v in store.mirror_arrays(a).items():
         np.testing.assert_array_equal(v, b[k])
     with pytest.raises(cfgmod.ConfigError, match=r"empirical\.mirror_derive = true needs"):
-        settings.parse(cfgmod.deep_merge(cfg, {"empirical": {"include_mirrors": False}}))
+        configure.parse(cfgmod.deep_merge(cfg, {"empirical": {"include_mirrors": False}}))
 
 
 def test_committed_pareto_set_holds_both_bodies() -> None:

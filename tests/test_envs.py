@@ -191,7 +191,7 @@ print(json.dumps(sorted(m for m in sys.modules if m.split(".")[0] in ("pybullet"
 
 def test_parsing_and_planning_import_no_pybullet_or_pymoo(tmp_path: Path) -> None:
     """The Snakefile's parse and a dry run (every rule's params evaluated, the empirical ones too)
-    load neither: they run in the host environment and import morphlearn.empirical.params."""
+    load neither: they run in the host environment and import morphlearn.physics.params."""
     from conftest import copy_workflow
 
     wd = copy_workflow(tmp_path / "wd")

@@ -8,8 +8,8 @@ import math
 import numpy as np
 import pytest
 
-from morphlearn.empirical.params import load_params
 from morphlearn.grid import light_positions
+from morphlearn.physics.params import load_params
 
 PARAMS = load_params("config/empirical_morphology.yaml").replace(steps=300)
 CANON = ((0.5, 0.5), (0.5, -0.5))

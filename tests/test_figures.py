@@ -13,7 +13,7 @@ import pandas as pd
 import pytest
 import yaml
 
-from morphlearn import grid, settings, store
+from morphlearn import configure, grid, store
 from morphlearn.figures import caption, data, options, output, registry
 from morphlearn.figures.draw import distribution, matrix, panel, sketch
 from morphlearn.results import DesignResult
@@ -311,7 +311,7 @@ def test_every_registered_figure_has_a_notebook_taking_its_options(empirical: bo
     """The rule passes the output paths, the style and the registry's options: the notebook's
     parameters cell must name each (papermill would only warn)."""
     base = yaml.safe_load((ROOT / "config.yaml").read_text())
-    s = settings.parse({**base, "empirical": {**base.get("empirical", {}), "enabled": empirical}})
+    s = configure.parse({**base, "empirical": {**base.get("empirical", {}), "enabled": empirical}})
     # every notebook is a registered figure, except the scenario report (its own rule, scenarios.smk)
     # and the interactive explorer (no rule: docs/explorer.md)
     assert set(registry.FIGURES) == {p.stem for p in (ROOT / "notebooks").glob("*.ipynb")} - {"scenarios", "explore"}

@@ -22,7 +22,7 @@ import pandas as pd
 import pytest
 from conftest import ROOT, copy_paper_sources, snakemake
 
-from morphlearn import bundle, bundle_check, cli, metrics, provenance, resimulate, rules, store
+from morphlearn import bundle, bundle_check, cli, configure, metrics, provenance, resimulate, rules, store
 from morphlearn import config as config_mod
 from morphlearn import settings as settings_mod
 from morphlearn.figures import caption, data
@@ -503,7 +503,7 @@ def _stage_settings(run: Path, **over: dict) -> settings_mod.Settings:
     cwd = Path.cwd()
     os.chdir(run)  # the body file is named relative to the project root
     try:
-        return settings_mod.parse(config_mod.deep_merge(cfg, over))
+        return configure.parse(config_mod.deep_merge(cfg, over))
     finally:
         os.chdir(cwd)
 
@@ -781,7 +781,7 @@ def mujoco_results(tmp_path_factory: pytest.TempPathFactory) -> Path:
     """MuJoCo results with every lever a survey records (mirror_derive, early stop, adaptive
     weights) on the smallest grid: design 75 and its mirror 51, 3 x 3 weights; about 5 s."""
     pytest.importorskip("mujoco")
-    from morphlearn import config, models, settings
+    from morphlearn import config, models
 
     out = tmp_path_factory.mktemp("mujoco")
     section = {"enabled": True, "results_from": None, "weights": 3, "designs": [[[0.5, 0.5], [0.0, -0.5]]]}
@@ -800,7 +800,7 @@ def mujoco_results(tmp_path_factory: pytest.TempPathFactory) -> Path:
     cwd = Path.cwd()
     os.chdir(ROOT)  # the body file is named relative to the project root
     try:
-        s = settings.parse(cfg)
+        s = configure.parse(cfg)
     finally:
         os.chdir(cwd)
     shard = out / "mujoco/shards/shard_0.nc"

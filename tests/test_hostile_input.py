@@ -6,7 +6,7 @@ the input is legitimate, handled. One rule for the config and the CLI (``setting
 Classes: integers that are floats; physically meaningless settings; unsafe paths; bad YAML files
 (duplicate keys, empty, binary, wrong shape); every CLI command's flags; messages that name the
 real cause (a run from another folder, a committed bundle as results_dir) and a schema whose
-descriptions are not cut short. Most attacks run in-process (``settings.parse``, ``cli.main``); the
+descriptions are not cut short. Most attacks run in-process (``configure.parse``, ``cli.main``); the
 few that only the workflow can show run ``snakemake -n`` in one shared copy of the workflow.
 """
 
@@ -24,7 +24,7 @@ import pytest
 import yaml
 from conftest import ROOT, copy_workflow, snakemake
 
-from morphlearn import cli, config, scenarios, settings
+from morphlearn import cli, config, configure, scenarios
 
 SURVEY = ROOT / "results/survey"
 #: A small, valid theory-only config (the smoke grid; no file the figures read).
@@ -52,7 +52,7 @@ def _base() -> dict:
 
 def _one_line_config_error(patch: dict) -> str:
     with pytest.raises(config.ConfigError) as e:
-        settings.parse(config.deep_merge(_base(), patch))
+        configure.parse(config.deep_merge(_base(), patch))
     msg = str(e.value)
     assert "\n" not in msg and "allowed" in msg, msg
     return msg
@@ -101,7 +101,7 @@ def test_whole_number_floats_refused_where_an_integer_is_meant(patch: dict, need
 
 
 def test_integers_and_floats_where_numbers_are_meant_still_pass() -> None:
-    s = settings.parse(config.deep_merge(_base(), {"theory": {"r": 4, "horizon": 500}, "grid": {"weights": 5}}))
+    s = configure.parse(config.deep_merge(_base(), {"theory": {"r": 4, "horizon": 500}, "grid": {"weights": 5}}))
     assert s.grid.weights == 5 and isinstance(s.grid.weights, int)
 
 
@@ -152,7 +152,7 @@ def test_meaningful_neighbours_of_the_refused_physics_pass() -> None:
         {"theory": {"integrator": "dp5", "dt": 600}},  # dt is unused by the adaptive integrator
         {"empirical": {**PHYSICS, "params": {"light_distance": 0.93}}},  # the body's contact: 0.906
     ):
-        settings.parse(config.deep_merge(_base(), ok))
+        configure.parse(config.deep_merge(_base(), ok))
 
 
 @pytest.mark.parametrize(
@@ -219,7 +219,7 @@ def test_bad_config_file_refused_in_one_line(kind: str, tmp_path: Path) -> None:
     p = tmp_path / f"{kind}.yaml"
     p.write_bytes(data)
     with pytest.raises(config.ConfigError) as e:
-        settings.load(p)
+        configure.load(p)
     msg = str(e.value)
     assert msg.startswith(f"{p}: ") and needle in msg and "\n" not in msg, msg
 
@@ -646,7 +646,7 @@ def test_unbounded_config_scenario_and_body_files_refused_in_one_line(
 ) -> None:
     make, needle = UNBOUNDED[kind]
     p = make(tmp_path)
-    for read in (settings.load, scenarios.read_file):
+    for read in (configure.load, scenarios.read_file):
         with pytest.raises(config.ConfigError) as e:
             read(p)
         msg = str(e.value)

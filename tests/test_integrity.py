@@ -16,7 +16,7 @@ import yaml
 from conftest import ROOT
 from test_reliability import REL_CONFIG, SCIENCE, SHARD_DESIGNS, G, W, _results, _shards
 
-from morphlearn import cli, config, metrics, models, provenance, rules, settings, store
+from morphlearn import cli, config, configure, metrics, models, provenance, rules, store
 from morphlearn.provenance import sha256_file
 from morphlearn.results import DesignResult
 
@@ -173,7 +173,7 @@ def test_merge_records_and_warns_about_mixed_commits_and_backends(tmp_path: Path
 
 
 def test_shard_provenance_names_backend_and_device() -> None:
-    s = settings.parse(config.deep_merge(yaml.safe_load((ROOT / "config.yaml").read_text()), REL_CONFIG))
+    s = configure.parse(config.deep_merge(yaml.safe_load((ROOT / "config.yaml").read_text()), REL_CONFIG))
     rec = models.get("theory").backend(s)
     assert rec["backend"] == "cpu" and rec["device"].startswith("cpu (")
 
@@ -296,7 +296,7 @@ def test_probe_bad_inputs_refused_cleanly(
         )
         tried += 1
         with pytest.raises(config.ConfigError) as e:
-            settings.parse(config.deep_merge(base, patch))
+            configure.parse(config.deep_merge(base, patch))
         ok = needle in str(e.value) and "\n" not in str(e.value)
         clean += ok
         assert ok, (patch, str(e.value))

@@ -8,7 +8,7 @@ import math
 import numpy as np
 import pytest
 
-from morphlearn import config, metrics, settings
+from morphlearn import config, configure, metrics
 from morphlearn.grid import DesignGrid, env_starts, weights
 from morphlearn.learners import experiment, protocols
 from morphlearn.learners.objective import joint_loss
@@ -21,7 +21,7 @@ P = TheoryParams()
 
 def _cfg(**learners) -> Settings:
     base = config.load("config.yaml")
-    return settings.parse({**base, "learners": {"enabled": True, **learners}})
+    return configure.parse({**base, "learners": {"enabled": True, **learners}})
 
 
 def test_points_kernel_equals_grid_kernel_on_grid_points() -> None:

@@ -11,11 +11,12 @@ import pandas as pd
 import pytest
 from scipy import integrate
 
-from morphlearn import compare, metrics
-from morphlearn.empirical import EmpiricalParams, EpisodeRunner, evaluate_design, load_params
-from morphlearn.empirical.options import SweepOptions
-from morphlearn.empirical.reach import ReachBound, centre_factor
-from morphlearn.empirical.refine import lattice, refine_mask, replay_mask
+from morphlearn import compare, configure, metrics
+from morphlearn.empirical import EpisodeRunner, evaluate_design
+from morphlearn.physics.options import SweepOptions
+from morphlearn.physics.params import EmpiricalParams, load_params
+from morphlearn.physics.reach import ReachBound, centre_factor
+from morphlearn.physics.refine import lattice, refine_mask, replay_mask
 from morphlearn.results import STATUS_INFERRED, STATUS_NONFINITE, STATUS_OK
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -150,10 +151,10 @@ def test_adaptive_design_marks_inferred_cells(params: EmpiricalParams) -> None:
 
 def test_options_enter_the_science_record_only_when_on() -> None:
     from morphlearn import config as cfgmod
-    from morphlearn import models, settings
+    from morphlearn import models
 
     def science(cfg: dict) -> dict:
-        return models.get("empirical").science(settings.parse(cfg))
+        return models.get("empirical").science(configure.parse(cfg))
 
     base = cfgmod.read(ROOT / "config.yaml")
     off = cfgmod.deep_merge(base, {"empirical": {"early_stop": False, "adaptive_weights": False, "results_from": None}})

@@ -7,13 +7,13 @@ import pytest
 
 pytest.importorskip("mujoco")
 
-from morphlearn.empirical.options import SweepOptions
-from morphlearn.empirical.params import EmpiricalParams, load_params
-from morphlearn.empirical.reach import ReachBound
-from morphlearn.empirical.refine import refine, refine_waves
 from morphlearn.grid import weights
 from morphlearn.mujoco.episode import BatchRunner, evaluate_design, lower_times
 from morphlearn.mujoco.model import MujocoSettings, build_model, mjcf
+from morphlearn.physics.options import SweepOptions
+from morphlearn.physics.params import EmpiricalParams, load_params
+from morphlearn.physics.reach import ReachBound
+from morphlearn.physics.refine import refine, refine_waves
 
 CANON = ((0.5, 0.5), (0.5, -0.5))
 PARAMS = load_params("config/empirical_morphology.yaml")

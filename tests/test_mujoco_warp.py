@@ -10,7 +10,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from morphlearn import config, models, settings
+from morphlearn import config, configure, models, settings
 
 ROOT = Path(__file__).resolve().parents[1]
 CANON = ((0.5, 0.5), (0.5, -0.5))
@@ -21,7 +21,7 @@ def _base() -> dict:
 
 
 def _settings(mujoco: dict) -> settings.Settings:
-    return settings.parse(config.deep_merge(_base(), {"mujoco": {"results_from": None, **mujoco}}))
+    return configure.parse(config.deep_merge(_base(), {"mujoco": {"results_from": None, **mujoco}}))
 
 
 def test_backend_option_asks_for_a_gpu_and_keeps_cpu_digests() -> None:
@@ -44,7 +44,7 @@ def test_bad_backend_names_the_key() -> None:
     msg = str(e.value)
     assert "mujoco.backend" in msg and "'cuda'" in msg and "warp" in msg, msg
     with pytest.raises(config.ConfigError, match=r"unknown key \['backend'\] under 'empirical'"):
-        settings.parse(config.deep_merge(_base(), {"empirical": {"backend": "warp"}}))
+        configure.parse(config.deep_merge(_base(), {"empirical": {"backend": "warp"}}))
 
 
 def test_warp_requested_but_not_installed_says_how_to_install(monkeypatch: pytest.MonkeyPatch) -> None:
@@ -70,8 +70,8 @@ def test_warp_requested_but_not_installed_says_how_to_install(monkeypatch: pytes
 @pytest.fixture(scope="module")
 def warp_cpu():  # type: ignore[no-untyped-def]
     pytest.importorskip("mujoco_warp", reason="MuJoCo Warp is the optional group gpu; CI does not install it")
-    from morphlearn.empirical.params import load_params
     from morphlearn.mujoco.mjwarp import WarpBatchRunner
+    from morphlearn.physics.params import load_params
 
     params = load_params(ROOT / "config/empirical_morphology.yaml")
     return params, WarpBatchRunner(params, device="cpu", nworld=64)
@@ -101,10 +101,10 @@ def test_warp_agrees_with_the_cpu_batch(warp_cpu) -> None:  # type: ignore[no-un
 def test_warp_episode_does_not_depend_on_its_batch_graph_or_rerun(warp_cpu) -> None:  # type: ignore[no-untyped-def]
     """Many designs per batch (evaluate_designs) give each design's evaluate_design arrays bit for
     bit; the captured-graph path (CUDA's) equals the step-by-step one; a rerun the same bytes."""
-    from morphlearn.empirical.options import SweepOptions
     from morphlearn.grid import weights
     from morphlearn.mujoco.episode import evaluate_design
     from morphlearn.mujoco.mjwarp import WarpBatchRunner, evaluate_designs
+    from morphlearn.physics.options import SweepOptions
 
     params, _ = warp_cpu
     params = params.replace(steps=300)  # 15 s episodes: the canonical w = (1, 1) touches 2 lights by then

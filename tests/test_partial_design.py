@@ -1,4 +1,4 @@
-"""A pybullet design resumes inside itself (morphlearn.empirical.partial): killed part-way, it
+"""A pybullet design resumes inside itself (morphlearn.physics.partial): killed part-way, it
 keeps its finished episodes and the next run simulates only the others, to the same bytes."""
 
 from __future__ import annotations
@@ -10,10 +10,11 @@ import pytest
 from conftest import Killed, counting_runs
 
 from morphlearn import config as cfgmod
-from morphlearn import design_cache, models, settings
-from morphlearn.empirical import EmpiricalParams, evaluate_design, load_params
-from morphlearn.empirical import partial as partial_cells
-from morphlearn.empirical.options import SweepOptions
+from morphlearn import configure, design_cache, models
+from morphlearn.empirical import evaluate_design
+from morphlearn.physics import partial as partial_cells
+from morphlearn.physics.options import SweepOptions
+from morphlearn.physics.params import EmpiricalParams, load_params
 from morphlearn.results import STATUS_INFERRED, DesignResult
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -118,7 +119,7 @@ def test_workflow_keeps_the_running_design_in_the_design_cache(tmp_path: Path, m
     removed once the design is stored (rules.run_shard's ``done`` saves it)."""
     cfg = cfgmod.read(ROOT / "config.yaml", [ROOT / "config/smoke.yaml"])
     cfg["results_dir"] = str(tmp_path / "results")
-    s = settings.parse(cfg)
+    s = configure.parse(cfg)
     model = models.get("empirical")
     folder = design_cache.cache_dir(s.results_dir, "empirical", model.science(s))
     seen: list[Path] = []

@@ -12,14 +12,14 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from morphlearn import bundle_check, metrics, models, provenance, refine_bundle, settings, store
+from morphlearn import bundle_check, configure, metrics, models, provenance, refine_bundle, store
 from morphlearn import config as cfgmod
+from morphlearn import resumable as rz
 from morphlearn.bundle import BundleError
-from morphlearn.empirical import resumable as rz
-from morphlearn.empirical.options import SweepOptions
-from morphlearn.empirical.params import load_params
 from morphlearn.figures import options
 from morphlearn.grid import DesignGrid, canonical_design
+from morphlearn.physics.options import SweepOptions
+from morphlearn.physics.params import load_params
 
 ROOT = Path(__file__).resolve().parents[1]
 BODY = ROOT / "config" / "empirical_morphology.yaml"
@@ -100,7 +100,7 @@ def test_bundle_holds_the_folders_metrics_and_the_workflow_reads_it(tmp_path: Pa
         cfgmod.load(ROOT / "config.yaml"),
         {"grid": {"positions_per_axis": 9}, "empirical": {"results_from": str(out), "weights": 11}},
     )
-    s = settings.parse(cfg)
+    s = configure.parse(cfg)
     assert len(s.weights("empirical")) == 3  # the bundle's weights, not the section's 11
     # it holds two designs: not a survey, so no theory-against-physics survey figure
     assert s.models["empirical"].held == tuple(sorted(designs)) and not options.empirical_survey(s)

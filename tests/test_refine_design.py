@@ -1,4 +1,4 @@
-"""The resumable one-design runner (morphlearn.empirical.resumable, tools/refine_design.py):
+"""The resumable one-design runner (morphlearn.resumable, tools/refine_design.py):
 resume skips verified rows, damaged rows are recomputed, the assembled result is evaluate_design's."""
 
 from __future__ import annotations
@@ -12,10 +12,11 @@ import pytest
 pytest.importorskip("pybullet")
 
 from morphlearn import metrics
-from morphlearn.empirical import evaluate_design, load_params
-from morphlearn.empirical import resumable as rz
-from morphlearn.empirical.options import SweepOptions
+from morphlearn import resumable as rz
+from morphlearn.empirical import evaluate_design
 from morphlearn.grid import canonical_design
+from morphlearn.physics.options import SweepOptions
+from morphlearn.physics.params import load_params
 
 BODY = Path(__file__).resolve().parents[1] / "config" / "empirical_morphology.yaml"
 _REAL_COMPUTE_ROW = rz.compute_row
@@ -257,8 +258,8 @@ def test_adaptive_replay_equals_an_adaptive_run(tmp_path: Path) -> None:
     """The adaptive grid's misses are measured by replaying it on an exhaustive folder: the cells
     the replay picks are the cells a real adaptive run simulates."""
     pytest.importorskip("mujoco")
-    from morphlearn.empirical.refine import misses, replay_mask
     from morphlearn.mujoco import evaluate_design as mujoco_evaluate_design
+    from morphlearn.physics.refine import misses, replay_mask
     from morphlearn.results import STATUS_INFERRED
 
     job = rz.Job(**{**_job(m=5).__dict__, "engine": "mujoco"})

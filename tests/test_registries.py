@@ -16,7 +16,7 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from morphlearn import cli, compare, config, metrics, models, rules, settings, store, summary
+from morphlearn import cli, compare, config, configure, metrics, models, rules, settings, store, summary
 from morphlearn.theory.plugin import Theory
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -30,7 +30,7 @@ def smoke_settings(tmp_path: Path) -> settings.Settings:
         config.read(ROOT / "config.yaml", [ROOT / "config/smoke.yaml"]),
         {"results_dir": str(tmp_path / "results"), "sweep": {"shards": 1}},
     )
-    return settings.parse(raw)
+    return configure.parse(raw)
 
 
 def _theory_run(s: settings.Settings, model: str, tmp_path: Path) -> Path:
@@ -89,7 +89,7 @@ def test_a_new_model_is_one_registry_entry(
 ) -> None:
     toy = _Toy(dict(smoke_settings.source["theory"]))
     monkeypatch.setitem(models.MODELS, "toy", toy)
-    s = settings.parse(dict(smoke_settings.source))  # parsed again: the registry has the toy now
+    s = configure.parse(dict(smoke_settings.source))  # parsed again: the registry has the toy now
     assert models.enabled(s) == ["theory", "empirical", "toy"] and "toy" in models.simulated(s)
     csv = _theory_run(s, "toy", tmp_path)
     ds = store.open_merged(tmp_path / "toy.zarr")

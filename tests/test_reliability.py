@@ -26,7 +26,7 @@ import xarray as xr
 import yaml
 from conftest import copy_workflow, job_stats, snakemake, written_results
 
-from morphlearn import cli, config, grid, models, settings, store
+from morphlearn import cli, config, configure, grid, models, store
 from morphlearn.provenance import sha256_file
 from morphlearn.results import DesignResult
 
@@ -73,7 +73,7 @@ def done_run(tmp_path_factory: pytest.TempPathFactory) -> Path:
 G = grid.DesignGrid(3)
 W = grid.weights(5)
 SCIENCE = models.get("theory").science(
-    settings.parse(
+    configure.parse(
         config.deep_merge(yaml.safe_load((Path(__file__).parents[1] / "config.yaml").read_text()), REL_CONFIG)
     )
 )
@@ -302,7 +302,7 @@ def test_kill_mid_run_then_resume_recomputes_only_unfinished_shards(done_run: Pa
     assert 1 <= len(finished) < N_SHARDS, (finished, log_path.read_text()[-3000:])
     assert not (wd / "results/theory/merged.zarr").exists()
     designs = models.get("theory").shard_designs(
-        settings.parse(config.deep_merge(yaml.safe_load((wd / "config.yaml").read_text()), REL_CONFIG))
+        configure.parse(config.deep_merge(yaml.safe_load((wd / "config.yaml").read_text()), REL_CONFIG))
     )
     for s in finished:  # what looks finished is complete and verifies
         i = int(s.split("_")[-1].split(".")[0])
@@ -371,7 +371,7 @@ def test_dt_is_science_only_for_the_fixed_step_integrator() -> None:
     rk4 = config.deep_merge(base, {"theory": {"integrator": "rk4", "max_steps": 100_000}})  # horizon / dt steps
 
     def dig(cfg: dict) -> str:
-        return config.digest(models.get("theory").science(settings.parse(cfg)))
+        return config.digest(models.get("theory").science(configure.parse(cfg)))
 
     assert dig(rk4) != dig(config.deep_merge(rk4, {"theory": {"dt": 0.02}}))
     assert dig(base) == dig(config.deep_merge(base, {"theory": {"dt": 0.02}}))

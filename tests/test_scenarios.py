@@ -13,8 +13,8 @@ import pytest
 import yaml
 from conftest import ROOT, copy_workflow, job_stats, snakemake
 
+from morphlearn import configure, metrics
 from morphlearn import grid as gridmod
-from morphlearn import metrics, settings
 from morphlearn import scenarios as sc
 from morphlearn.theory import TheoryParams, evaluate
 
@@ -51,7 +51,7 @@ def test_select_adds_base_keeps_file_order_and_refuses_unknown_names() -> None:
 
 
 def test_override_validated_with_the_config_schema() -> None:
-    base = settings.load(ROOT / "config.yaml")
+    base = configure.load(ROOT / "config.yaml")
     with pytest.raises(sc.ScenarioError, match=r"scenario 'neg': theory.r = -1.0 is invalid"):
         sc.expand(base, {"base": {}, "neg": {"theory": {"r": -1.0}}}, ["base", "neg"])
     with pytest.raises(sc.ScenarioError, match=r"scenario 'typo': unknown key \['horizn'\] under 'theory'"):
@@ -69,7 +69,7 @@ def test_answers_only_what_stored_arrays_determine() -> None:
 
 
 def test_default_set_needs_five_simulations_for_nine_scenarios() -> None:
-    base = settings.load(ROOT / "config.yaml")
+    base = configure.load(ROOT / "config.yaml")
     f = sc.read_file(ROOT / "config" / "scenarios.yaml")
     scen = sc.expand(base, f, sc.select(f, "all"))
     p = sc.plan(scen, base.results_dir)

@@ -1,4 +1,4 @@
-"""An exhaustive refine folder seeds a workflow design's partial file (morphlearn.empirical.seed):
+"""An exhaustive refine folder seeds a workflow design's partial file (morphlearn.seed):
 the workflow's adaptive run then simulates only the cells of its path the folder lacks, to the
 bytes of a run that had no file."""
 
@@ -14,12 +14,12 @@ from conftest import counting_runs
 pytest.importorskip("pybullet")
 
 from morphlearn import config as cfgmod
-from morphlearn import design_cache, models, settings
-from morphlearn.empirical import load_params
-from morphlearn.empirical import resumable as rz
-from morphlearn.empirical.options import SweepOptions
-from morphlearn.empirical.seed import seed
+from morphlearn import configure, design_cache, models
+from morphlearn import resumable as rz
+from morphlearn.physics.options import SweepOptions
+from morphlearn.physics.params import load_params
 from morphlearn.results import STATUS_INFERRED, DesignResult
+from morphlearn.seed import seed
 from morphlearn.settings import Settings
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -43,7 +43,7 @@ def _settings(tmp: Path, **emp: Any) -> Settings:
             **emp,
         }
     )
-    return settings.parse(cfg)
+    return configure.parse(cfg)
 
 
 def _folder(tmp: Path, max_rows: int | None = None, **job: Any) -> Path:
@@ -101,7 +101,7 @@ def test_seeded_design_simulates_only_what_the_folder_lacks(tmp_path: Path, monk
 def test_seed_keeps_the_workflows_own_episodes_and_skips_a_finished_design(
     tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
-    from morphlearn.empirical import partial as partial_cells
+    from morphlearn.physics import partial as partial_cells
 
     s = _settings(tmp_path)
     model = models.get("empirical")

@@ -13,7 +13,7 @@ import pytest
 import yaml
 from conftest import copy_workflow, job_stats, snakemake
 
-from morphlearn import bundle, bundle_check, models, settings
+from morphlearn import bundle, bundle_check, configure, models
 from morphlearn.figures import options
 
 # 81 designs (45 simulated with mirror derivation), 2 x 2 weights, a near light and a short
@@ -122,17 +122,17 @@ def test_results_from_bad_values_are_named(tmp_path: Path) -> None:
     base = cfgmod.load(root / "config.yaml")
     missing = r"empirical\.results_from = 'nowhere': nowhere/bundle\.json is missing"
     with pytest.raises(cfgmod.ConfigError, match=missing):
-        settings.parse(cfgmod.deep_merge(base, {"empirical": {"results_from": "nowhere"}}))
+        configure.parse(cfgmod.deep_merge(base, {"empirical": {"results_from": "nowhere"}}))
     with pytest.raises(cfgmod.ConfigError, match=r"holds results on the 9-point grid; allowed: .* = 5"):
-        settings.parse(cfgmod.deep_merge(base, {"empirical": {"results_from": str(root / "results" / "paper")}}))
+        configure.parse(cfgmod.deep_merge(base, {"empirical": {"results_from": str(root / "results" / "paper")}}))
     # theory.results_from: theory results made with this config's theory settings and grid
     with pytest.raises(cfgmod.ConfigError, match=r"theory\.results_from = .*holds theory results made with grid\."):
-        settings.parse(cfgmod.deep_merge(base, {"theory": {"results_from": str(root / "results" / "paper")}}))
+        configure.parse(cfgmod.deep_merge(base, {"theory": {"results_from": str(root / "results" / "paper")}}))
     with pytest.raises(cfgmod.ConfigError, match=r"made with theory\.horizon = 500\.0, this config has 400\.0"):
-        settings.parse(
+        configure.parse(
             cfgmod.deep_merge(base, {"theory": {"results_from": str(root / "results" / "survey"), "horizon": 400.0}})
         )
-    read = settings.parse(cfgmod.deep_merge(base, {"theory": {"results_from": str(root / "results" / "survey")}}))
+    read = configure.parse(cfgmod.deep_merge(base, {"theory": {"results_from": str(root / "results" / "survey")}}))
     assert read.models["theory"].results_from and "theory" not in models.simulated(read)
     # survey_from: a physics model's survey of every design of this grid, or refused by name
     nine = cfgmod.deep_merge(base, {"grid": {"positions_per_axis": 9}, "empirical": {"enabled": False}})
@@ -152,13 +152,13 @@ def test_results_from_bad_values_are_named(tmp_path: Path) -> None:
     }
     for message, (cfg, survey) in bad.items():
         with pytest.raises(cfgmod.ConfigError, match=message):
-            settings.parse(cfgmod.deep_merge(cfg, {"survey_from": survey}))
-    ok = settings.parse(cfgmod.deep_merge(base, {"survey_from": {"bundle": str(root / "results" / "survey-mujoco")}}))
+            configure.parse(cfgmod.deep_merge(cfg, {"survey_from": survey}))
+    ok = configure.parse(cfgmod.deep_merge(base, {"survey_from": {"bundle": str(root / "results" / "survey-mujoco")}}))
     assert ok.survey.model == "mujoco" and ok.survey.folder == "survey/mujoco" and ok.survey.thresholds
     # the survey figure: drawn from a survey_from bundle, also without the run's own survey
     assert options.empirical_survey(ok)
-    assert options.empirical_survey(settings.parse(base))  # config.yaml: results/survey, all 625 designs
-    assert not options.empirical_survey(settings.parse(nine))
+    assert options.empirical_survey(configure.parse(base))  # config.yaml: results/survey, all 625 designs
+    assert not options.empirical_survey(configure.parse(nine))
 
 
 def test_default_run_reads_the_committed_survey(tmp_path: Path) -> None:

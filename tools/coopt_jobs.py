@@ -21,7 +21,7 @@ from pathlib import Path
 
 import pandas as pd
 
-from morphlearn import settings
+from morphlearn import configure, settings
 from morphlearn.coopt import experiment as ex
 from morphlearn.coopt import stage
 from morphlearn.coopt.setups import paper_setups
@@ -45,7 +45,7 @@ def jobs(s: settings.CooptSettings) -> list[tuple[int, int, tuple[str, float], l
 
 
 def run(out: Path, worker: int, nworkers: int) -> None:
-    cfg = settings.load("config.yaml", [CONFIG])
+    cfg = configure.load("config.yaml", [CONFIG])
     s = cfg.coopt
     best = ex.best_design(s.best_metrics)["M_L"]["coords"]
     setups = paper_setups(best)
@@ -66,7 +66,7 @@ def run(out: Path, worker: int, nworkers: int) -> None:
 def assemble(out: Path, landscape_json: Path, bundle: Path) -> None:
     """Per (setup, variant) CSVs and landscape JSONs in the stage's layout under ``out/stage``,
     then the stage's analysis into ``bundle``."""
-    cfg = settings.load("config.yaml", [CONFIG])
+    cfg = configure.load("config.yaml", [CONFIG])
     s = cfg.coopt
     files = sorted(out.glob("p*_*.csv"))
     runs = pd.concat([pd.read_csv(p) for p in files], ignore_index=True)

@@ -31,13 +31,13 @@ from matplotlib.patches import Circle
 
 from morphlearn.empirical.episode import EpisodeRunner
 from morphlearn.empirical.episode import evaluate_design as pybullet_design
-from morphlearn.empirical.options import SweepOptions
-from morphlearn.empirical.params import load_params
 from morphlearn.figures.output import save, use_style
 from morphlearn.grid import ENV_ANGLES_DEG, DesignGrid, light_positions, weights
 from morphlearn.metrics import design_metrics
 from morphlearn.mujoco.episode import BatchRunner
 from morphlearn.mujoco.episode import evaluate_design as mujoco_design
+from morphlearn.physics.options import SweepOptions
+from morphlearn.physics.params import load_params
 
 ROOT = Path(__file__).resolve().parents[1]
 PYBULLET = ROOT / "results/survey/empirical/metrics.csv"

@@ -25,12 +25,12 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from morphlearn.empirical.options import SweepOptions
-from morphlearn.empirical.params import load_params
-from morphlearn.empirical.refine import DEFAULT_NEAR
 from morphlearn.grid import ENV_MIRROR, DesignGrid, canonical_design, weights
 from morphlearn.metrics import design_metrics
 from morphlearn.mujoco.episode import BatchRunner, evaluate_design
+from morphlearn.physics.options import SweepOptions
+from morphlearn.physics.params import load_params
+from morphlearn.physics.refine import DEFAULT_NEAR
 
 ROOT = Path(__file__).resolve().parents[1]
 OUT = Path("/work/runs/mujoco_survey")

@@ -16,11 +16,11 @@
   seed:      refine_design.py seed results/refine/canonical_121 --configfile config/refine_pybullet.yaml
              (a folder's episodes, complete or not, as its design's partial file in that config's
              design cache: the workflow simulates only the rest of its path, e.g. the adaptive
-             grid's; morphlearn.empirical.seed)
+             grid's; morphlearn.seed)
 
 Levers: early stop (exact, docs/empirical_levers.md) on unless --no-early-stop; never the
 adaptive weight grid (this is the reference it is measured against). See
-morphlearn.empirical.resumable for the folder layout.
+morphlearn.resumable for the folder layout.
 """
 
 from __future__ import annotations
@@ -32,9 +32,10 @@ from pathlib import Path
 
 import numpy as np
 
-from morphlearn.empirical import resumable as rz
-from morphlearn.empirical.options import SweepOptions
-from morphlearn.empirical.params import load_params
+from morphlearn import configure
+from morphlearn import resumable as rz
+from morphlearn.physics.options import SweepOptions
+from morphlearn.physics.params import load_params
 
 
 def _log(msg: str) -> None:
@@ -129,7 +130,7 @@ def cmd_assemble(a: argparse.Namespace) -> int:
 
 README = """# {title}: one {engine} design, exhaustive {m} x {m} weights ({state})
 
-Made by `tools/refine_design.py` (morphlearn.empirical.resumable): every (env, w1, w2) episode of
+Made by `tools/refine_design.py` (morphlearn.resumable): every (env, w1, w2) episode of
 design l1 = {l1}, l2 = {l2} with the body `{body}` (sha256 {body_sha}...), early stop on (exact:
 docs/empirical_levers.md), no adaptive weight grid, no mirror derivation (every cell simulated).
 
@@ -258,7 +259,7 @@ def cmd_bundle(a: argparse.Namespace) -> int:
 def cmd_adaptive(a: argparse.Namespace) -> int:
     """The adaptive weight grid's misses at each ``--near``, replayed on a complete exhaustive folder."""
     from morphlearn import metrics
-    from morphlearn.empirical.refine import misses, simulated_mask
+    from morphlearn.physics.refine import misses, simulated_mask
     from morphlearn.results import STATUS_OK
 
     asm = rz.assemble(a.folder, log=_log)
@@ -295,12 +296,11 @@ def cmd_adaptive(a: argparse.Namespace) -> int:
 
 def cmd_seed(a: argparse.Namespace) -> int:
     """The folder's episodes as the partial file of its design in a workflow config's design cache."""
-    from morphlearn import settings
     from morphlearn.config import ConfigError
-    from morphlearn.empirical.seed import seed
+    from morphlearn.seed import seed
 
     try:
-        s = settings.load(a.base, a.configfile)
+        s = configure.load(a.base, a.configfile)
     except ConfigError as e:
         raise rz.RefineError(f"config {a.base} + {a.configfile}: {e}") from None
     r = seed(a.folder, s)

@@ -18,7 +18,7 @@ import sys
 import numpy as np
 
 from morphlearn import metrics, store
-from morphlearn.empirical import resumable as rz
+from morphlearn import resumable as rz
 from morphlearn.results import STATUS_INFERRED
 
 

@@ -4,7 +4,7 @@
    and notebooks/ (the same pattern as the project's before-stop hook).
 2. Raw config reads below the edge: ``cfg[...]``, ``cfg.get(...)``, ``CFG[...]`` in the package,
    outside the edge: ``config.py`` (the schema), ``settings.py`` (the parse) and the models'
-   ``parse`` methods, which settings.parse calls for each model's own section (AST-located).
+   ``parse`` methods, which configure.parse calls for each model's own section (AST-located).
 3. Per shard, measured by running one: design grids built, body files read, settings parsed.
 """
 
@@ -65,11 +65,11 @@ def raw_reads() -> tuple[list[str], list[str]]:
 
 def per_shard() -> dict[str, int]:
     """Run one smoke shard of each model with counters on what the redesign builds once."""
-    from morphlearn import config, grid, rules, settings
-    from morphlearn.empirical import params
+    from morphlearn import config, configure, grid, rules, settings
+    from morphlearn.physics import params
 
     counts = {"design grids built": 0, "body files read": 0, "settings parsed": 0}
-    real_post, real_load, real_parse = grid.DesignGrid.__post_init__, params.load_params, settings.parse
+    real_post, real_load, real_parse = grid.DesignGrid.__post_init__, params.load_params, configure.parse
 
     def post(self: grid.DesignGrid) -> None:
         counts["design grids built"] += 1
@@ -85,7 +85,7 @@ def per_shard() -> dict[str, int]:
 
     grid.DesignGrid.__post_init__ = post  # type: ignore[method-assign]
     params.load_params = load
-    import morphlearn.empirical.plugin as plugin
+    import morphlearn.physics.model as plugin
 
     plugin.load_params = load
     out = {}

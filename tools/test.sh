@@ -6,6 +6,7 @@ export PATH="$PWD/.venv/bin:$PATH"
 echo "== ruff (the package, tests, scripts and notebooks/*.ipynb: ruff lints notebooks natively)"; ruff check .
 echo "== ruff format (Python files; notebooks keep their own layout)"; ruff format --check --exclude '*.ipynb' .
 echo "== snakefmt"; snakefmt --check Snakefile workflow/rules/
+echo "== import contracts (pyproject.toml [tool.importlinter])"; lint-imports --no-cache >/dev/null
 echo "== snakemake --lint"; snakemake --lint --cores 1 >/dev/null
 echo "== dry run of the full config"; snakemake -n --configfile config/full.yaml --quiet rules >/dev/null
 # --durations: every run (CI included) prints its slowest tests, so the suite's time is watched, not guessed.

@@ -5,39 +5,19 @@ and run the workflow after checking its config files (run). 'morphlearn VERB --h
 from __future__ import annotations
 
 import argparse
-import ctypes
 import json
 import os
 import re
 import sys
-from collections.abc import Iterator, Sequence
-from contextlib import contextmanager
+from collections.abc import Sequence
 from pathlib import Path
 from typing import Any, NoReturn
 
 import numpy as np
 
 from morphlearn import grid as gridmod
+from morphlearn.errors import UsageError, c_stdout_to_stderr
 from morphlearn.metrics import design_metrics
-
-
-@contextmanager
-def c_stdout_to_stderr() -> Iterator[None]:
-    """Send what C libraries print to stdout (pybullet's banner) to stderr, so ``--json`` output
-    stays one JSON object."""
-    sys.stdout.flush()
-    saved = os.dup(1)
-    os.dup2(2, 1)
-    try:
-        yield
-    finally:
-        ctypes.CDLL(None).fflush(None)  # C stdio buffers, before fd 1 is restored
-        os.dup2(saved, 1)
-        os.close(saved)
-
-
-class UsageError(ValueError):
-    """Bad command-line input: one line, exit code 2."""
 
 
 class _Parser(argparse.ArgumentParser):

@@ -9,8 +9,10 @@ import hashlib
 import json
 import math
 import sys
+from collections.abc import Mapping, Sequence
 from importlib import resources
 from pathlib import Path
+from types import MappingProxyType
 from typing import Any
 
 import yaml
@@ -98,18 +100,25 @@ def _fill_defaults(cfg: dict[str, Any], sch: dict[str, Any]) -> None:
             _fill_defaults(cfg[k], sub)
 
 
-def validate(cfg: dict[str, Any]) -> dict[str, Any]:
-    """Validate a config mapping; return a copy with defaults filled. Raises ConfigError."""
+def validate(
+    cfg: dict[str, Any], path_keys: Sequence[str] = (), sections: Mapping[str, str] = MappingProxyType({})
+) -> dict[str, Any]:
+    """Validate a config mapping; return a copy with defaults filled. Raises ConfigError.
+    ``path_keys``: the models' path keys (``section.key``) checked besides :data:`PATH_KEYS`;
+    ``sections``: a model's section the schema lacks -> the section whose schema it shares (an
+    engine on the physics base takes the physics section's keys without a schema entry)."""
     if not isinstance(cfg, dict):
         raise ConfigError(f"config must be a mapping, got {type(cfg).__name__}")
     _check_finite(cfg, "")
     sch = schema()
+    for name, like in sections.items():
+        sch["properties"].setdefault(name, copy.deepcopy(sch["properties"][like]))
     errors = sorted(_Validator(sch).iter_errors(cfg), key=lambda e: list(e.absolute_path))
     if errors:
         raise ConfigError(_describe(errors[0]))
     out = copy.deepcopy(cfg)
     _fill_defaults(out, sch)
-    _check_cross(out)
+    _check_cross(out, path_keys)
     return out
 
 
@@ -129,15 +138,9 @@ def _check_finite(obj: Any, key: str) -> None:
 
 #: Characters a path key may not hold: Snakemake reads braces in input/output paths as wildcards.
 UNSAFE_PATH_CHARS = "{}"
-#: Path keys that become Snakemake input or output paths (``scenario_file`` is read by Python only).
-PATH_KEYS = (
-    "results_dir",
-    "bundle_dir",
-    "empirical.morphology",
-    "empirical.results_from",
-    "theory.results_from",
-    "survey_from.bundle",
-)
+#: Path keys that become Snakemake input or output paths (``scenario_file`` is read by Python only);
+#: each model declares its own (``Model.path_keys``), passed to :func:`validate`.
+PATH_KEYS = ("results_dir", "bundle_dir", "survey_from.bundle")
 
 
 def check_path(key: str, value: str | None) -> None:
@@ -153,17 +156,12 @@ def check_path(key: str, value: str | None) -> None:
         )
 
 
-def _check_paths(cfg: dict[str, Any]) -> None:
-    for key in PATH_KEYS:
+def _check_paths(cfg: dict[str, Any], path_keys: Sequence[str]) -> None:
+    for key in (*PATH_KEYS, *path_keys):
         sec, _, name = key.rpartition(".")
         holder = cfg.get(sec, {}) if sec else cfg
-        check_path(key, holder.get(name) if isinstance(holder, dict) else None)
-    # every other model section's body file and bundle (the physics models share these keys)
-    for sec, body in cfg.items():
-        for name in ("morphology", "results_from"):
-            key = f"{sec}.{name}"
-            if isinstance(body, dict) and key not in PATH_KEYS and isinstance(body.get(name), str):
-                check_path(key, body[name])
+        value = holder.get(name) if isinstance(holder, dict) else None
+        check_path(key, value if isinstance(value, str) else None)
 
 
 #: The project's own folders (relative to the project folder, where every run starts): no run
@@ -241,10 +239,10 @@ def _check_analysis(a: dict[str, Any], th: dict[str, Any]) -> None:
         )
 
 
-def _check_cross(cfg: dict[str, Any]) -> None:
+def _check_cross(cfg: dict[str, Any], path_keys: Sequence[str]) -> None:
     """Checks across keys that need no design grid or file (those are the settings' and each
-    model's: :func:`morphlearn.settings.parse`)."""
-    _check_paths(cfg)
+    model's: :func:`morphlearn.configure.parse`)."""
+    _check_paths(cfg, path_keys)
     _check_results_dir(cfg["results_dir"], bool(cfg.get("render_only")))
     th = cfg["theory"]
     _check_analysis(cfg["analysis"], th)
@@ -263,7 +261,7 @@ def read(path: str | Path, overrides: list[str | Path] = ()) -> dict[str, Any]:
 
 
 def load(path: str | Path, overrides: list[str | Path] = ()) -> dict[str, Any]:
-    """:func:`read` and :func:`validate`: the validated mapping (``settings.load`` types it)."""
+    """:func:`read` and :func:`validate`: the validated mapping (``configure.load`` types it)."""
     return validate(read(path, overrides))
 
 

@@ -49,7 +49,7 @@ def design_path(folder: Path, design: int) -> Path:
 
 
 def partial_path(folder: Path, design: int) -> Path:
-    """Where a running design keeps its finished episodes (:mod:`morphlearn.empirical.partial`)."""
+    """Where a running design keeps its finished episodes (:mod:`morphlearn.physics.partial`)."""
     return folder / f"design_{int(design)}.partial.npz"
 
 

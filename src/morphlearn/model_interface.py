@@ -53,6 +53,13 @@ class Model(ABC):
     env_file: ClassVar[str]
     #: Options of ``morphlearn design`` this model takes (others are refused, by name).
     cli_options: ClassVar[tuple[str, ...]] = ()
+    #: Python libraries its results depend on, whose versions its provenance records name.
+    libraries: ClassVar[tuple[str, ...]] = ()
+    #: Config keys of its section that name files Snakemake reads or writes (checked at start).
+    path_keys: ClassVar[tuple[str, ...]] = ()
+    #: The config section whose schema its section shares when ``config_schema.yaml`` has none of
+    #: its own (a new engine on the physics base needs no schema entry), or None.
+    schema_like: ClassVar[str | None] = None
 
     # -- settings (parsed once, at the edge) ---------------------------------------------------
     @abstractmethod

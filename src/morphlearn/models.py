@@ -3,33 +3,67 @@
 The workflow's simulate / merge / metrics rules are instantiated per registered model; summary,
 compare, bundle, captions, the reproduction table and the CLI ask this registry instead of
 comparing names. To add a model: its own package with a ``Model`` subclass, one line in
-:func:`_registry`, and its config section in ``config_schema.yaml``.
+:data:`PLUGINS`, and its config section in ``config_schema.yaml``.
 
 Light imports only: the Snakefile imports this module at parse time.
 """
 
 from __future__ import annotations
 
+import importlib
+from collections.abc import Iterator, MutableMapping
 from typing import TYPE_CHECKING
 
 from morphlearn.model_interface import Model
+from morphlearn.physics.model import Physics
 
 if TYPE_CHECKING:
     from morphlearn.settings import Settings
 
+#: Every model plug-in, by registry name: ``module:class``. One line per model; the order is the
+#: order of tables, summaries and reports, and the first model is the reference.
+PLUGINS: dict[str, str] = {
+    "theory": "morphlearn.theory.plugin:Theory",
+    "empirical": "morphlearn.empirical.plugin:Pybullet",
+    "mujoco": "morphlearn.mujoco.plugin:Mujoco",
+    "ode": "morphlearn.ode.plugin:Ode",
+}
 
-def _registry() -> dict[str, Model]:
-    from morphlearn.empirical.plugin import Pybullet
-    from morphlearn.mujoco.plugin import Mujoco
-    from morphlearn.ode.plugin import Ode
-    from morphlearn.theory.plugin import Theory
 
-    # Order is the order of tables, summaries and reports; the first model is the reference.
-    return {m.name: m for m in (Theory(), Pybullet(), Mujoco(), Ode())}
+class Registry(MutableMapping[str, Model]):
+    """name -> model instance, each plug-in imported on first use (by its import path: this module
+    imports no plug-in, so the layers below the registry never depend on a model package)."""
+
+    def __init__(self, plugins: dict[str, str]) -> None:
+        self._paths = dict(plugins)
+        self._made: dict[str, Model] = {}
+
+    def __getitem__(self, name: str) -> Model:
+        if name not in self._made:
+            module, cls = self._paths[name].split(":")  # KeyError: not registered
+            model = getattr(importlib.import_module(module), cls)()
+            if model.name != name:
+                raise TypeError(f"{self._paths[name]} is registered as {name!r} but names itself {model.name!r}")
+            self._made[name] = model
+        return self._made[name]
+
+    def __setitem__(self, name: str, model: Model) -> None:  # a test registers a double
+        self._paths.setdefault(name, f"{type(model).__module__}:{type(model).__qualname__}")
+        self._made[name] = model
+
+    def __delitem__(self, name: str) -> None:
+        del self._paths[name]
+        self._made.pop(name, None)
+
+    def __iter__(self) -> Iterator[str]:
+        return iter(self._paths)
+
+    def __len__(self) -> int:
+        return len(self._paths)
 
 
 #: name -> model, every registered model.
-MODELS: dict[str, Model] = _registry()
+MODELS: Registry = Registry(PLUGINS)
 #: The reference model: figures need it, comparisons are against it.
 REFERENCE: str = next(iter(MODELS))
 
@@ -49,3 +83,18 @@ def enabled(s: Settings) -> list[str]:
 def simulated(s: Settings) -> list[str]:
     """The models this config simulates."""
     return [n for n, m in MODELS.items() if m.simulates(s)]
+
+
+def path_keys() -> list[str]:
+    """Every model's config keys that name files (``section.key``), checked at start."""
+    return [f"{n}.{k}" for n, m in MODELS.items() for k in m.path_keys]
+
+
+def schema_sections() -> dict[str, str]:
+    """Model name -> the config section whose schema its section shares, where it declares one."""
+    return {n: m.schema_like for n, m in MODELS.items() if m.schema_like}
+
+
+def physics() -> list[str]:
+    """The registered rigid-body engine models (:class:`morphlearn.physics.model.Physics`)."""
+    return [n for n, m in MODELS.items() if isinstance(m, Physics)]

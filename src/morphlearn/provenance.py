@@ -7,13 +7,15 @@ import json
 import os
 import platform
 import subprocess
+from collections.abc import Sequence
 from importlib import metadata
 from pathlib import Path
 from typing import Any
 
 from morphlearn import __version__, bounded
 
-_LIBS = ("numpy", "scipy", "numba", "xarray", "zarr", "pybullet", "pandas", "snakemake")
+#: Libraries every record names; a model adds its own (``Model.libraries``: numba, pybullet, ...).
+_LIBS = ("numpy", "scipy", "xarray", "zarr", "pandas", "snakemake")
 
 
 def git_commit(cwd: str | Path | None = None) -> str:
@@ -56,9 +58,10 @@ def sha256_file(path: str | Path) -> str:
     return h.hexdigest()
 
 
-def library_versions() -> dict[str, str]:
+def library_versions(extra: Sequence[str] = ()) -> dict[str, str]:
+    """Versions of the libraries every record names and of ``extra`` (a model's own)."""
     out = {"python": platform.python_version()}
-    for lib in _LIBS:
+    for lib in dict.fromkeys([*_LIBS, *extra]):
         try:
             out[lib] = metadata.version(lib)
         except metadata.PackageNotFoundError:
@@ -66,14 +69,16 @@ def library_versions() -> dict[str, str]:
     return out
 
 
-def record(config_subset: dict[str, Any], inputs: list[str | Path] = ()) -> dict[str, Any]:
+def record(
+    config_subset: dict[str, Any], inputs: list[str | Path] = (), libraries: Sequence[str] = ()
+) -> dict[str, Any]:
     """A provenance record. Deliberately without timestamps or host names: the same inputs and
     code give the same bytes."""
     return {
         "package": "morphlearn",
         "version": __version__,
         "git_commit": git_commit(),
-        "libraries": library_versions(),
+        "libraries": library_versions(libraries),
         "config": config_subset,
         "inputs": {str(p): sha256_file(p) for p in inputs},
     }

@@ -1,7 +1,7 @@
 """A results bundle made of complete ``tools/refine_design.py`` folders (one design each).
 
 The physics designs the paper bundle shows at 121 x 121 controllers are simulated one by one with
-the resumable runner (:mod:`morphlearn.empirical.resumable`): hours of one core each in pybullet,
+the resumable runner (:mod:`morphlearn.resumable`): hours of one core each in pybullet,
 outside the workflow. :func:`build` turns one or more COMPLETE folders of one engine, weight grid,
 body and levers into the bundle a workflow run reads with ``<model>.results_from`` (``empirical``
 for pybullet, ``mujoco`` for MuJoCo) on the design grid of :data:`POSITIONS` positions per axis:
@@ -32,15 +32,15 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
-from morphlearn import __version__, bounded, metrics, provenance, store
+from morphlearn import __version__, bounded, metrics, models, provenance, store
+from morphlearn import resumable as rz
 from morphlearn.bundle import MANIFEST, bundle_files
-from morphlearn.empirical import resumable as rz
 from morphlearn.grid import DesignGrid
 
 #: The design grid the bundles are on (the paper's: 9 positions per axis, 6561 designs).
 POSITIONS = 9
 #: The registered model whose results a folder's engine makes.
-MODEL_OF_ENGINE = {"pybullet": "empirical", "mujoco": "mujoco"}
+MODEL_OF_ENGINE = {models.get(n).engine: n for n in models.physics()}
 #: ``made_by.tool`` of these bundles: an out folder holding one (same model) may be replaced.
 TOOL = "tools/refine_design.py bundle"
 
@@ -130,7 +130,7 @@ def science_record(sources: list[Source], positions: int = POSITIONS) -> dict[st
         # derived (no mirror_derive key): every cell of every design simulated
         **job.options.science(),
         "refine": {
-            "tool": "tools/refine_design.py (morphlearn.empirical.resumable)",
+            "tool": "tools/refine_design.py (morphlearn.resumable)",
             "format": man["identity"]["format"],
             "engine": job.engine,
             "engine_identity": {k: man["identity"][k] for k in engine_keys if k in man["identity"]},
@@ -143,21 +143,6 @@ def science_record(sources: list[Source], positions: int = POSITIONS) -> dict[st
             "mirror_derive": False,
         },
     }
-
-
-def check_engine(science: dict[str, Any]) -> None:
-    """Refuse (ValueError) to re-simulate a refine bundle's record with another engine version or
-    settings than it was simulated with: the re-simulation would not be the recorded run."""
-    ref = science["refine"]
-    engine = rz.ENGINES.get(ref.get("engine"))
-    if engine is None:
-        raise ValueError(f"refine engine {ref.get('engine')!r} unknown here; allowed: {', '.join(rz.ENGINES)}")
-    here = json.loads(json.dumps(engine.identity()))  # as the record stores it (tuples as lists)
-    if here != ref.get("engine_identity"):
-        raise ValueError(
-            f"the bundle was simulated with {ref.get('engine_identity')}, this machine runs {here}: "
-            "a re-simulation here would not be the recorded run"
-        )
 
 
 def _row_commits(folder: Path) -> dict[str, int]:
@@ -239,7 +224,8 @@ def build(folders: list[str | Path], out: str | Path, *, command: str | None = N
                 },
             )
             shards.append(path)
-        rec = provenance.record(sci) | {"refine_folders": folders_rec, "command": command}
+        rec = provenance.record(sci, libraries=models.get(model).libraries)
+        rec |= {"refine_folders": folders_rec, "command": command}
         merged = tmp / model / "merged.zarr"
         store.merge_shards(
             shards,
@@ -300,7 +286,7 @@ def _write_metrics(table: pd.DataFrame, folder: Path, th: metrics.Thresholds, ds
     csv = folder / "metrics.csv"
     table.to_csv(csv, index=False, float_format=metrics.CSV_FLOAT_FORMAT)
     subset = {"thresholds": th.__dict__, "model": model, "merged_sha256_overall": ds.attrs["integrity"]["overall"]}
-    rec = provenance.record(subset) | {
+    rec = provenance.record(subset, libraries=models.get(model).libraries) | {
         "inputs": {f"{model}/merged.zarr": provenance.sha256_file(folder / "merged.zarr")}
     }
     provenance.write_sealed(provenance.sidecar_of(csv), rec, [csv])

@@ -4,6 +4,7 @@
 from __future__ import annotations
 
 import json
+from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
@@ -23,7 +24,7 @@ def run_shard(s: Settings, model: str, shard: int, out: str | Path) -> None:
     designs = m.shard_designs(s)[shard]
     sci = m.science(s)
     w = m.weights(s)
-    prov = provenance.record(sci) | m.backend(s)
+    prov = provenance.record(sci, libraries=m.libraries) | m.backend(s)
     results: dict[int, DesignResult] = {}
     folder = design_cache.cache_dir(s.results_dir, model, sci) if s.design_cache else None
     if folder:
@@ -68,7 +69,7 @@ def run_merge(s: Settings, model: str, shards: list[str], out: str | Path) -> No
         shard_designs=m.shard_designs(s),
         science=sci,
         mirror=m.mirror_derived(s),
-        provenance=provenance.record(sci, shards),
+        provenance=provenance.record(sci, shards, m.libraries),
     )
 
 
@@ -77,15 +78,17 @@ def run_metrics(model: str, th: metrics.Thresholds, merged: str | Path, out_csv:
     ds = store.open_merged(merged)
     table = metrics.metrics_table(ds, th)  # verifies every chunk before anything is written
     subset = {"thresholds": th.__dict__, "model": model, "merged_sha256_overall": ds.attrs["integrity"]["overall"]}
-    write_csv_with_provenance(table, out_csv, subset, [merged])
+    write_csv_with_provenance(table, out_csv, subset, [merged], models.get(model).libraries)
 
 
-def write_csv_with_provenance(table: pd.DataFrame, out_csv: str | Path, subset: dict[str, Any], inputs: list) -> None:
+def write_csv_with_provenance(
+    table: pd.DataFrame, out_csv: str | Path, subset: dict[str, Any], inputs: list, libraries: Sequence[str] = ()
+) -> None:
     out_csv = Path(out_csv)
     with store.atomic_path(out_csv) as tmp:
         table.to_csv(tmp, index=False, float_format=metrics.CSV_FLOAT_FORMAT)
     # sealed: the table's digest and the record's own, checked by every reader (custody)
-    prov = provenance.seal(provenance.record(subset, inputs), [out_csv])
+    prov = provenance.seal(provenance.record(subset, inputs, libraries), [out_csv])
     with store.atomic_path(provenance.sidecar_of(out_csv)) as tmp:
         tmp.write_text(json.dumps(prov, indent=1, sort_keys=True) + "\n")
 

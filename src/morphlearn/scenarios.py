@@ -36,8 +36,8 @@ import numpy as np
 import pandas as pd
 
 from morphlearn import config as cfgmod
+from morphlearn import configure, metrics, models
 from morphlearn import grid as gridmod
-from morphlearn import metrics, models, settings
 from morphlearn.settings import Settings
 
 #: The reference scenario every comparison is made against; every scenario file must define it.
@@ -193,7 +193,7 @@ def expand(base: Settings, file_scenarios: dict[str, dict[str, Any]], names: Seq
             },
         )
         try:
-            sc = settings.parse(raw)
+            sc = configure.parse(raw)
         except cfgmod.ConfigError as e:
             raise ScenarioError(f"scenario {name!r}: {e}") from None
         if sc.analysis.horizon is not None or sc.analysis.success_radius is not None:
@@ -272,7 +272,7 @@ def plan(scenarios: Sequence[Scenario], cache_results_dir: str) -> Plan:
             options = [(answers(c, (s.horizon, s.radius)), c) for c in chosen]
             rank = {HOW_DIRECT: 0, HOW_HORIZON: 1, HOW_RADIUS: 2}
             how, (ts, rs) = min(((h, c) for h, c in options if h), key=lambda x: (rank[x[0]], x[1]))
-            sim = settings.parse(
+            sim = configure.parse(
                 cfgmod.deep_merge(
                     dict(s.settings.source),
                     {
@@ -471,7 +471,10 @@ def run_compare(
     with store.atomic_path(Path(out_md)) as tmp:
         tmp.write_text(comparison_markdown(comp, scan, top, plan_md))
     if out_record is not None:
-        rec = provenance.record({"scenarios": sorted(tables), "top": top}, [*tables.values()])
+        # the scenarios vary the theory, the reference model: its libraries
+        rec = provenance.record(
+            {"scenarios": sorted(tables), "top": top}, [*tables.values()], models.get(models.REFERENCE).libraries
+        )
         provenance.write_sealed(out_record, rec, [out_csv, out_md, out_scan])
 
 

@@ -1,9 +1,10 @@
-"""Settings: the validated config, parsed once at the edge into frozen, typed objects.
+"""Settings: the validated config as frozen, typed objects (plain data: this module reads no
+bundle and imports no model).
 
 The edge is the Snakefile (``workflow/rules/common.smk``), each rule script's entry
-(``workflow/scripts/_entry.py``) and the CLI. They call :func:`parse` (or :func:`load`) once;
-everything below receives a :class:`Settings` (or the part of it it needs), never the raw dict.
-Files the config names (the body YAML of a physics model) are read here, once.
+(``workflow/scripts/_entry.py``) and the CLI. They call :func:`morphlearn.configure.parse` (or
+``load``) once; everything below receives a :class:`Settings` (or the part of it it needs), never
+the raw dict. Here: the types and the parsers of the shared sections.
 
 Each model's section is parsed by the model's own plug-in (:mod:`morphlearn.models`), so adding a
 model adds no field here: ``settings.models[name]``.
@@ -15,8 +16,6 @@ import math
 from collections.abc import Callable, Mapping
 from dataclasses import asdict, dataclass
 from functools import cached_property
-from pathlib import Path
-from types import MappingProxyType
 from typing import Any
 
 import numpy as np
@@ -136,28 +135,6 @@ class SurveySettings:
         return f"{SURVEY_DIR}/{self.model}"
 
 
-def _parse_survey(sec: Mapping[str, Any], grid: GridSettings) -> SurveySettings:
-    """The survey bundle: a physics model's results on this grid holding every design of it."""
-    from morphlearn import models
-    from morphlearn.empirical.plugin import Physics
-
-    bundle, name = sec.get("bundle"), sec.get("model", "mujoco")
-    physics = [n for n, m in models.MODELS.items() if isinstance(m, Physics)]
-    if name not in physics:
-        raise cfgmod.ConfigError(f"survey_from.model = {name!r} is not a physics model; allowed: {physics}")
-    if bundle is None:
-        return SurveySettings(None, name, None)
-    model = models.get(name)
-    assert isinstance(model, Physics)
-    th, _, held = model.check_results_bundle(bundle, grid.positions_per_axis, key="survey_from.bundle")
-    if len(held) != grid.designs.size:
-        raise cfgmod.ConfigError(
-            f"survey_from.bundle = {bundle!r}: its {name} results hold {len(held)} of the grid's "
-            f"{grid.designs.size} designs; allowed: a survey of every design (e.g. results/survey9-mujoco)"
-        )
-    return SurveySettings(bundle, name, MappingProxyType(th))
-
-
 @dataclass(frozen=True)
 class Shared:
     """The typed sections a model's parse may read besides its own (Model.parse)."""
@@ -229,12 +206,12 @@ def check_theory(th: Mapping[str, Any], name: Callable[[str], str | None]) -> No
         )
 
 
-def _section(cls: type, sec: Mapping[str, Any]) -> Any:
+def section(cls: type, sec: Mapping[str, Any]) -> Any:
     """A dataclass from a config section: lists become tuples (frozen, hashable)."""
     return cls(**{k: tuple(sec[k]) if isinstance(sec[k], list) else sec[k] for k in cls.__dataclass_fields__})
 
 
-def _check_coopt(c: CooptSettings) -> None:
+def check_coopt(c: CooptSettings) -> None:
     """Cross-checks of the ``coopt`` section the schema cannot state."""
     bad = [b for b in c.budgets if b % c.cycles]
     if bad:
@@ -247,50 +224,3 @@ def _check_coopt(c: CooptSettings) -> None:
             f"coopt.landscape_weights = {c.landscape_weights} is even; allowed: odd numbers >= 3 "
             "(so that the uncrossed weights' zero, the two-weight controllers, is on the grid)"
         )
-
-
-def parse(cfg: Mapping[str, Any]) -> Settings:
-    """Validate ``cfg`` (defaults filled, cross-checks) and parse it into :class:`Settings`.
-    Raises :class:`morphlearn.config.ConfigError` with a one-line message."""
-    from morphlearn import models
-
-    v = cfgmod.validate(dict(cfg))
-    check_theory(v["theory"], lambda k: f"theory.{k}")
-    grid = _section(GridSettings, v["grid"])
-    sweep = _section(SweepSettings, v["sweep"])
-    figures = _section(FigureSettings, v["figures"])
-    learners = _section(LearnerSettings, v["learners"])
-    if learners.enabled:
-        g = grid.designs
-        n_run = min(len(g.representatives()), learners.max_designs or g.size)
-        if learners.shards > n_run:
-            raise cfgmod.ConfigError(
-                f"learners.shards = {learners.shards} exceeds the {n_run} designs the learners run; allowed: 1..{n_run}"
-            )
-    coopt = _section(CooptSettings, v["coopt"])
-    _check_coopt(coopt)
-    return Settings(
-        source=MappingProxyType(v),
-        results_dir=v["results_dir"],
-        design_cache=bool(v["design_cache"]),
-        grid=grid,
-        sweep=sweep,
-        analysis=_section(AnalysisSettings, v["analysis"]),
-        figures=figures,
-        learners=learners,
-        coopt=coopt,
-        # each model parses its own section (schema defaults filled: {} when absent)
-        models=MappingProxyType(
-            {name: m.parse(v.get(name, {}), Shared(grid, sweep, figures)) for name, m in models.MODELS.items()}
-        ),
-        bundle_dir=v["bundle_dir"],
-        survey=_parse_survey(v["survey_from"], grid),
-        scenarios=v["scenarios"],
-        scenario_file=v["scenario_file"],
-        render_only=bool(v["render_only"]),
-    )
-
-
-def load(path: str | Path, overrides: list[str | Path] = ()) -> Settings:
-    """Read a YAML config (deep-merging override files, as ``--configfile`` does) and parse it."""
-    return parse(cfgmod.read(path, overrides))

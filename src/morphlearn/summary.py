@@ -57,7 +57,8 @@ def run_summary(
     with store.atomic_path(out_md) as tmp:
         tmp.write_text(summary_markdown(summary))
     if out_prov is not None:
-        rec = provenance.record({"top": s.analysis.top, "models": sorted(tables)}, [])
+        libs = [lib for name in tables for lib in models.get(name).libraries]
+        rec = provenance.record({"top": s.analysis.top, "models": sorted(tables)}, [], libs)
         # the tables by their path relative to the summary's folder (the results folder)
         rec["inputs"] = {os.path.relpath(p, Path(out_json).parent): provenance.sha256_file(p) for p in tables.values()}
         provenance.write_sealed(out_prov, rec, [out_json, out_md])

@@ -6,6 +6,7 @@ from pathlib import Path
 
 import yaml
 
+from morphlearn import configure
 from morphlearn import config as cfgmod
 from morphlearn import bundle as bundlemod
 from morphlearn import models, provenance, results_check, rules, settings
@@ -16,7 +17,7 @@ from morphlearn.figures import registry as figure_registry
 
 # The config, parsed once into typed settings: everything below reads S, never the raw dict.
 try:
-    S = settings.parse(config)
+    S = configure.parse(config)
 except cfgmod.ConfigError as err:
     print(f"morphlearn: config error: {err}", file=sys.stderr)
     sys.exit(2)

@@ -16,6 +16,6 @@ def setup(smk: Any, cfg: dict | None = None) -> Any:
     log = open(smk.log[0], "w", buffering=1)
     sys.stderr = log
     sys.stdout = log
-    from morphlearn import settings
+    from morphlearn import configure
 
-    return settings.parse(dict(smk.config) if cfg is None else dict(cfg))
+    return configure.parse(dict(smk.config) if cfg is None else dict(cfg))

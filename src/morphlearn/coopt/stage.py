@@ -10,7 +10,7 @@ import time
 from pathlib import Path
 from typing import Any
 
-from morphlearn import provenance, store
+from morphlearn import models, provenance, store
 from morphlearn.metrics import CSV_FLOAT_FORMAT
 from morphlearn.settings import CooptSettings, Settings
 
@@ -132,5 +132,7 @@ def run_analysis(settings: Settings, landscapes: list[str], run_csvs: list[str],
     with store.atomic_path(out_dir / "summary.md") as tmp:
         tmp.write_text(analysis.summary_markdown(summary, land, s))
     outputs = [out_dir / n for n in ANALYSIS_OUTPUTS]
-    rec = provenance.record(science(settings), [s.best_metrics, *landscapes, *run_csvs])
+    # the learners simulate in the theory, the reference model: its libraries
+    libs = models.get(models.REFERENCE).libraries
+    rec = provenance.record(science(settings), [s.best_metrics, *landscapes, *run_csvs], libs)
     provenance.write_sealed(provenance.sidecar_of(out_dir / "summary.csv"), rec, outputs)

@@ -1,24 +1,23 @@
-"""The empirical model: a pybullet simulation of the two-wheeled light-seeking robot.
+"""The pybullet engine (registered as the model ``empirical``): the two-wheeled light-seeking
+robot in pybullet, one engine on the physics layer (:mod:`morphlearn.physics`).
 
-- :mod:`.params`: physical parameters and solver settings (:class:`EmpiricalParams`);
 - :mod:`.robot`: builds the world (floor, robot, light) with ``createMultiBody``;
 - :mod:`.episode`: one episode (:class:`EpisodeRunner`) and a design's sweep
   (:func:`evaluate_design`);
-- :mod:`.optimise`: the base-morphology optimisation (NSGA-II) that picks the body.
+- :mod:`.optimise`: the base-morphology optimisation (NSGA-II) that picks the body;
+- :mod:`.plugin`: the engine as a model plug-in (:class:`~.plugin.Pybullet`).
 
-Only :mod:`.params` is imported eagerly: the config, the Snakefile and the theory/analysis rules
-read the parameters, and their environments (envs/theory.yaml, envs/analysis.yaml) hold no
-pybullet. The simulation names load pybullet on first use.
+Nothing is imported eagerly: the Snakefile and the theory/analysis rules import this package's
+plug-in, and their environments (envs/theory.yaml, envs/analysis.yaml) hold no pybullet. The
+simulation names load pybullet on first use.
 """
 
 from __future__ import annotations
 
 from typing import Any
 
-from morphlearn.empirical.params import EmpiricalParams, load_params
-
-__all__ = ["EmpiricalParams", "Episode", "EpisodeRunner", "evaluate_design", "load_params"]
-_LAZY = {"Episode", "EpisodeRunner", "evaluate_design"}
+__all__ = ["Episode", "EpisodeRunner", "evaluate_design"]
+_LAZY = set(__all__)
 
 
 def __getattr__(name: str) -> Any:

@@ -24,13 +24,13 @@ from pathlib import Path
 import numpy as np
 import pybullet as pb
 
-from morphlearn.empirical import partial as partial_cells
-from morphlearn.empirical.options import SweepOptions
-from morphlearn.empirical.params import EmpiricalParams
-from morphlearn.empirical.reach import CHECK_EVERY, ReachBound, sensor_reach
-from morphlearn.empirical.refine import refine
 from morphlearn.empirical.robot import LEFT_WHEEL, RIGHT_WHEEL, World, build_world, rebuild
 from morphlearn.grid import light_positions
+from morphlearn.physics import partial as partial_cells
+from morphlearn.physics.options import SweepOptions
+from morphlearn.physics.params import EmpiricalParams
+from morphlearn.physics.reach import CHECK_EVERY, ReachBound, sensor_reach
+from morphlearn.physics.refine import refine
 from morphlearn.results import STATUS_INFERRED, STATUS_NONFINITE, DesignResult
 
 Point = tuple[float, float]
@@ -204,7 +204,7 @@ def evaluate_design(
     """All (env, w1, w2) episodes of one design; arrays (4, m, m) indexed [env, i_w1, i_w2].
 
     ``partial``: a file that keeps the episodes done so far while the design runs
-    (:mod:`morphlearn.empirical.partial`); a design stopped by an error, Ctrl-C or a kill resumes
+    (:mod:`morphlearn.physics.partial`); a design stopped by an error, Ctrl-C or a kill resumes
     from it without re-simulating them, to the same result. The caller removes it once the
     design's result is stored.
 
@@ -251,7 +251,7 @@ def evaluate_design(
                 if options.adaptive_weights:
                     sim = refine(m, lambda i, j, env=env: simulate(env, i, j), options.stride)
                     status[env][~sim] = STATUS_INFERRED
-                    # a seeded partial file (morphlearn.empirical.seed) may hold cells this path
+                    # a seeded partial file (morphlearn.seed) may hold cells this path
                     # never asks for: they are inferred here, as in a run that had no file
                     first[env][~sim] = np.nan
                     dist[env][~sim] = np.nan

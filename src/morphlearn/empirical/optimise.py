@@ -38,9 +38,9 @@ import pandas as pd
 import pybullet as pb
 
 from morphlearn.empirical.episode import EpisodeRunner
-from morphlearn.empirical.params import EmpiricalParams
 from morphlearn.empirical.robot import LEFT_WHEEL, RIGHT_WHEEL, build_world
 from morphlearn.grid import ENV_ANGLES_DEG, canonical_design
+from morphlearn.physics.params import EmpiricalParams
 
 AUTHORS = EmpiricalParams()
 #: Decision variable -> (lowest, highest) factor of the authors' value.

@@ -23,7 +23,7 @@ from dataclasses import dataclass
 
 import pybullet as pb
 
-from morphlearn.empirical.params import BODY_SIZE, EmpiricalParams
+from morphlearn.physics.params import BODY_SIZE, EmpiricalParams
 
 LEFT_WHEEL, RIGHT_WHEEL, CASTOR = 0, 1, 2
 

@@ -210,6 +210,12 @@ def optional_results(
     return require_results(results_dir, model, thresholds) if enabled else None
 
 
+def physics_results(results_dir: str | Path, physics: dict[str, dict[str, float]]) -> list[ModelResults]:
+    """The results of every enabled physics model a figure reads (``physics``: name -> thresholds,
+    in registry order, from :func:`morphlearn.figures.options.figure_options`)."""
+    return [require_results(results_dir, name, th) for name, th in physics.items()]
+
+
 # ---------------------------------------------------------------------------------------------
 # Controllers
 

@@ -10,6 +10,7 @@ from typing import Any
 
 from morphlearn import models
 from morphlearn.figures.registry import FIGURES as FIGURE_SPECS
+from morphlearn.figures.registry import PHYSICS
 from morphlearn.settings import Settings
 
 #: The paper's figures, drawn by every run; :func:`figures` adds those of enabled extra stages.
@@ -80,6 +81,10 @@ def figure_options(s: Settings, fig: str) -> dict[str, Any]:
     spec = FIGURE_SPECS[fig]
     opts: dict[str, Any] = {}
     for name in spec.reads:
+        if name == PHYSICS:  # every enabled physics model, in registry order; the notebook loops
+            opts["physics"] = {n: models.get(n).thresholds(s).__dict__ for n in _physics_on(s)}
+            opts["physics_registered"] = models.physics()
+            continue
         m = models.get(name)
         on = m.enabled(s)
         if name != models.REFERENCE:
@@ -95,4 +100,11 @@ def figure_options(s: Settings, fig: str) -> dict[str, Any]:
 
 def data_models(s: Settings, fig: str) -> list[str]:
     """The models whose results a figure reads (registry), those off left out."""
-    return [m for m in FIGURE_SPECS[fig].reads if models.get(m).enabled(s)]
+    out: list[str] = []
+    for name in FIGURE_SPECS[fig].reads:
+        out += _physics_on(s) if name == PHYSICS else [name] if models.get(name).enabled(s) else []
+    return out
+
+
+def _physics_on(s: Settings) -> list[str]:
+    return [n for n in models.physics() if models.get(n).enabled(s)]

@@ -24,12 +24,18 @@ from pathlib import Path
 PACKAGE = "morphlearn"
 
 
+#: The ``reads`` token for every registered physics model (:func:`morphlearn.models.physics`).
+PHYSICS = "physics"
+
+
 @dataclass(frozen=True)
 class Figure:
     """What a figure's notebook reads besides its own code."""
 
-    #: Models whose results (metrics.csv, merged.zarr) it reads; "empirical" only when that
-    #: model is enabled, and its notebook then gets ``empirical_enabled = True``.
+    #: Models whose results (metrics.csv, merged.zarr) it reads: a model's name (a model other
+    #: than the reference only when enabled, its notebook then gets ``<name>_enabled = True``), or
+    #: :data:`PHYSICS`: every registered physics model that is enabled, in registry order (the
+    #: notebook gets ``physics``, name -> thresholds, and loops over them).
     reads: tuple[str, ...] = ("theory",)
     #: Notebook parameters taken from the config (morphlearn.figures.options.figure_options): a key of the config's
     #: ``figures`` section, or one of figures.options.DERIVED_FIGURE_OPTIONS.
@@ -47,11 +53,11 @@ class Figure:
 FIGURES: dict[str, Figure] = {
     "fig1": Figure(reads=(), options=("morphology",)),
     "fig2": Figure(options=("fig2_design", "fig2_envs")),
-    "fig3": Figure(reads=("theory", "empirical", "mujoco")),
+    "fig3": Figure(reads=("theory", PHYSICS)),
     "fig4": Figure(options=("trajectory_settings", "near_distance")),
     "fig5": Figure(options=("trajectory_settings", "near_distance")),
-    "fig6": Figure(reads=("theory", "empirical", "mujoco")),
-    "fig7": Figure(reads=("theory", "empirical"), survey=True),
+    "fig6": Figure(reads=("theory", PHYSICS)),
+    "fig7": Figure(reads=("theory", PHYSICS), survey=True),
     # beyond the paper: real learners against M_L and M_CF (issue 15; config/learners.yaml)
     "learners": Figure(needs="learners", files=("learners/runs.csv", "learners/correlations.csv")),
     # beyond the paper: co-optimising the body against a four-synapse controller (issue 27;

@@ -13,8 +13,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from morphlearn.empirical.params import EmpiricalParams
 from morphlearn.empirical.robot import CASTOR, LEFT_WHEEL, RIGHT_WHEEL, build_world
+from morphlearn.physics.params import EmpiricalParams
 
 
 @dataclass

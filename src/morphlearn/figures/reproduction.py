@@ -255,7 +255,7 @@ def survey_rows(
 def physics_models() -> list[str]:
     """The registered physics engines' model names, the reference engine (pybullet) first."""
     from morphlearn import models
-    from morphlearn.empirical.plugin import Physics
+    from morphlearn.physics.model import Physics
 
     return sorted(
         (n for n, m in models.MODELS.items() if isinstance(m, Physics)), key=lambda n: not models.get(n).figure_body

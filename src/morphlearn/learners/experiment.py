@@ -173,7 +173,7 @@ def run_analysis(
     with store.atomic_path(Path(out_md)) as tmp:
         tmp.write_text(summary_markdown(corr, s, merged.design.nunique()))
     if out_record is not None:
-        rec = provenance.record(science(settings), [metrics_csv, *shard_csvs])
+        rec = provenance.record(science(settings), [metrics_csv, *shard_csvs], models.get(models.REFERENCE).libraries)
         provenance.write_sealed(out_record, rec, [out_runs, out_corr, out_md])
 
 

@@ -1,6 +1,6 @@
 """A second empirical model: the same robot in MuJoCo, batched (``mujoco`` package, CPU).
 
-- :mod:`.model`: the MJCF, generated from :class:`~morphlearn.empirical.params.EmpiricalParams`
+- :mod:`.model`: the MJCF, generated from :class:`~morphlearn.physics.params.EmpiricalParams`
   (the pybullet model's parameters, ``config/empirical_morphology.yaml``) plus
   :class:`~.model.MujocoSettings` for what exists only in MuJoCo;
 - :mod:`.episode`: batched episodes (:class:`~.episode.BatchRunner`) and
@@ -14,7 +14,7 @@ body 1 x 1 x wheel_radius/2 at z = wheel_radius, masses, sphere wheels at the si
 r = 4*sqrt(2) at 45/135/225/315 deg, sensors 1/d^2 at the sensor points, motor = tanh(w s) with
 the same wiring, wheel target = motor * max_speed with the torque limit max_torque, success =
 centre-to-light distance <= ``params.contact_distance``, the early-stop reach bound
-(:mod:`morphlearn.empirical.reach`) and the adaptive weight grid (:mod:`morphlearn.empirical.refine`).
+(:mod:`morphlearn.physics.reach`) and the adaptive weight grid (:mod:`morphlearn.physics.refine`).
 
 Where the engines cannot be the same, and what this model chose:
 

@@ -25,12 +25,12 @@ from typing import Any
 
 import numpy as np
 
-from morphlearn.empirical.options import SweepOptions
-from morphlearn.empirical.params import EmpiricalParams
-from morphlearn.empirical.reach import CHECK_EVERY, ReachBound, sensor_reach
-from morphlearn.empirical.refine import refine_waves
 from morphlearn.grid import light_positions
 from morphlearn.mujoco.model import LEFT, RIGHT, MujocoSettings, build_model
+from morphlearn.physics.options import SweepOptions
+from morphlearn.physics.params import EmpiricalParams
+from morphlearn.physics.reach import CHECK_EVERY, ReachBound, sensor_reach
+from morphlearn.physics.refine import refine_waves
 from morphlearn.results import STATUS_INFERRED, STATUS_NONFINITE, STATUS_OK, DesignResult
 
 Point = tuple[float, float]

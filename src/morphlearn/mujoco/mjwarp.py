@@ -36,12 +36,14 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from morphlearn.empirical.options import SweepOptions
-from morphlearn.empirical.params import EmpiricalParams
-from morphlearn.empirical.reach import CHECK_EVERY, ReachBound, sensor_reach
 from morphlearn.grid import light_positions
 from morphlearn.mujoco.episode import BatchRunner, Episodes, lower_times
 from morphlearn.mujoco.model import MujocoSettings, build_model
+from morphlearn.physics.options import SweepOptions
+from morphlearn.physics.params import EmpiricalParams
+from morphlearn.physics.reach import CHECK_EVERY, ReachBound, sensor_reach
+from morphlearn.physics.refine import refine_waves
+from morphlearn.results import STATUS_INFERRED, STATUS_NONFINITE, STATUS_OK, DesignResult
 
 if TYPE_CHECKING:
     from morphlearn.results import DesignResult
@@ -299,9 +301,6 @@ def evaluate_designs(
     Per design the same cells and outcomes as ``evaluate_design`` with the same runner (worlds are
     independent; with the adaptive grid, :func:`refine_waves` grows every design's maps as
     ``refine`` does). ``done(index, result)`` as each batch of designs finishes."""
-    from morphlearn.empirical.refine import refine_waves
-    from morphlearn.results import STATUS_INFERRED, STATUS_NONFINITE, STATUS_OK, DesignResult
-
     options = options or SweepOptions()
     coords = np.asarray(coords, dtype=np.float64).reshape(-1, 4)
     w = np.asarray(weights, dtype=np.float64)

@@ -1,4 +1,4 @@
-"""MJCF of the robot, generated from :class:`~morphlearn.empirical.params.EmpiricalParams`.
+"""MJCF of the robot, generated from :class:`~morphlearn.physics.params.EmpiricalParams`.
 
 One robot per model (the batch runs many copies of it, each in its own simulation, see
 :mod:`.episode`). Every number of the body comes from the parameters; the settings that exist
@@ -13,7 +13,7 @@ import math
 from dataclasses import dataclass
 from typing import Any
 
-from morphlearn.empirical.params import BODY_SIZE, EmpiricalParams
+from morphlearn.physics.params import BODY_SIZE, EmpiricalParams
 
 #: pybullet's friction of the floor (robot.add_floor) and the default lateral friction of the
 #: box (pybullet's base default, measured with getDynamicsInfo): pybullet multiplies the two

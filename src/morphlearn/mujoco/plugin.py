@@ -13,10 +13,12 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from morphlearn.empirical.plugin import Physics, PhysicsSettings
+from morphlearn.config import ConfigError
 from morphlearn.model_interface import Done, Resources
+from morphlearn.physics.model import Physics, PhysicsSettings
 
 if TYPE_CHECKING:
+    from morphlearn.physics.rows import Engine
     from morphlearn.results import DesignResult
     from morphlearn.settings import Settings, Shared
 
@@ -33,12 +35,11 @@ class MujocoModelSettings(PhysicsSettings):
 class Mujoco(Physics):
     name = "mujoco"
     engine = "mujoco"
+    libraries = ("mujoco",)
     engine_label = "MuJoCo"
     env_file = "envs/empirical.yaml"  # the physics environment holds both engines (warp: docs/mujoco.md)
 
     def parse(self, sec: Mapping[str, Any], shared: Shared) -> MujocoModelSettings:
-        from morphlearn.config import ConfigError
-
         backend = sec.get("backend", "cpu")
         if backend not in BACKENDS:  # the schema refuses it first; this guards direct callers
             raise ConfigError(f"mujoco.backend = {backend!r} is invalid; allowed: {list(BACKENDS)}")
@@ -50,6 +51,11 @@ class Mujoco(Physics):
             science = MappingProxyType({**science, "backend": backend})
         fields = {f.name: getattr(base, f.name) for f in dataclasses.fields(PhysicsSettings)}
         return MujocoModelSettings(**{**fields, "science": science}, backend=backend)
+
+    def row_engine(self) -> Engine:
+        from morphlearn.mujoco.rows import ENGINE
+
+        return ENGINE
 
     @staticmethod
     def design_evaluator() -> Callable[..., DesignResult]:

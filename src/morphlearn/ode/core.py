@@ -13,8 +13,8 @@ from typing import Any
 
 import numpy as np
 
-from morphlearn.empirical.params import EmpiricalParams
 from morphlearn.grid import light_positions
+from morphlearn.physics.params import EmpiricalParams
 
 #: The authors' success test adds 2^-10 to the contact distance 0.5 + wheel radius + light radius.
 SUCCESS_TOLERANCE = 2.0**-10

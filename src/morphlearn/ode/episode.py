@@ -3,11 +3,11 @@ models' ``evaluate_design``, with the levers that are exact or validated here.
 
 - Every episode stops at its first success (exact: the outcome is decided; min_dist is then the
   distance at that step, as for the other engines).
-- ``options.adaptive_weights``: the adaptive weight grid (:func:`morphlearn.empirical.refine.refine_waves`),
+- ``options.adaptive_weights``: the adaptive weight grid (:func:`morphlearn.physics.refine.refine_waves`),
   its miss rate measured at 121 x 121 against exhaustive runs (docs/ode.md).
 - ``options.early_stop`` (the reach bound) is refused: its bound was derived for the pybullet body.
 
-A design resumes inside itself (``partial``, :mod:`morphlearn.empirical.partial`): at the paper's
+A design resumes inside itself (``partial``, :mod:`morphlearn.physics.partial`): at the paper's
 121 x 121 weights a design is about half an hour of one core, too long a unit to lose to a kill.
 """
 
@@ -19,11 +19,11 @@ from pathlib import Path
 
 import numpy as np
 
-from morphlearn.empirical import partial as partial_cells
-from morphlearn.empirical.options import SweepOptions
-from morphlearn.empirical.params import EmpiricalParams
-from morphlearn.empirical.refine import refine_waves
 from morphlearn.ode.core import run
+from morphlearn.physics import partial as partial_cells
+from morphlearn.physics.options import SweepOptions
+from morphlearn.physics.params import EmpiricalParams
+from morphlearn.physics.refine import refine_waves
 from morphlearn.results import STATUS_INFERRED, STATUS_NONFINITE, DesignResult
 
 Point = tuple[float, float]

@@ -10,8 +10,10 @@ import argparse
 from collections.abc import Callable, Mapping
 from typing import TYPE_CHECKING, Any
 
-from morphlearn.empirical.plugin import Physics
+from morphlearn.config import ConfigError
+from morphlearn.errors import UsageError
 from morphlearn.ode.core import INSTALL_HINT, available, success_radius
+from morphlearn.physics.model import Physics
 
 if TYPE_CHECKING:
     from morphlearn.metrics import Thresholds
@@ -29,8 +31,6 @@ class Ode(Physics):
     levers_doc = "docs/ode.md"
 
     def parse(self, sec: Mapping[str, Any], shared: Shared) -> Any:
-        from morphlearn.config import ConfigError
-
         if sec.get("enabled") and sec.get("results_from") is None and not available():
             raise ConfigError(f"ode.enabled = true: {INSTALL_HINT}")
         return super().parse(sec, shared)
@@ -62,8 +62,6 @@ class Ode(Physics):
     def evaluate_one(
         self, l1: tuple[float, float], l2: tuple[float, float], w: Any, a: argparse.Namespace
     ) -> DesignResult:
-        from morphlearn.cli import UsageError
-
         if not available():
             raise UsageError(f"--model ode: {INSTALL_HINT}")
         return super().evaluate_one(l1, l2, w, a)

@@ -15,7 +15,9 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from morphlearn.config import ConfigError
+from morphlearn.errors import UsageError
 from morphlearn.model_interface import Done, Model, Resources
+from morphlearn.settings import check_theory
 from morphlearn.theory import TheoryParams
 
 if TYPE_CHECKING:
@@ -50,6 +52,8 @@ class Theory(Model):
     name = "theory"
     env_file = "envs/theory.yaml"
     cli_options = ("r", "horizon", "dt")
+    libraries = ("numba",)
+    path_keys = ("results_from",)
 
     def parse(self, section: Mapping[str, Any], shared: Shared) -> TheorySettings:
         grid, sw = shared.grid, shared.sweep
@@ -182,8 +186,6 @@ class Theory(Model):
 
     def check_cli(self, a: argparse.Namespace) -> None:
         # the config's rule (settings.check_theory), with the CLI's defaults
-        from morphlearn.settings import check_theory
-
         th = {
             "r": CLI_R if a.r is None else a.r,
             "horizon": CLI_HORIZON if a.horizon is None else a.horizon,
@@ -197,7 +199,6 @@ class Theory(Model):
     def evaluate_one(
         self, l1: tuple[float, float], l2: tuple[float, float], w: np.ndarray, a: argparse.Namespace
     ) -> DesignResult:
-        from morphlearn.cli import UsageError
         from morphlearn.theory import evaluate
 
         horizon = a.horizon if a.horizon is not None else CLI_HORIZON

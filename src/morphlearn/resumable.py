@@ -31,20 +31,20 @@ import signal
 import time
 import zipfile
 from collections.abc import Callable
-from contextlib import nullcontext
-from dataclasses import asdict, dataclass
+from dataclasses import dataclass
 from datetime import UTC, datetime
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
-from morphlearn import metrics, provenance
+from morphlearn import metrics, models, provenance
 from morphlearn.config import digest
-from morphlearn.empirical.options import SweepOptions
-from morphlearn.empirical.params import EmpiricalParams
 from morphlearn.grid import ENV_MIRROR
 from morphlearn.grid import weights as weight_grid
+from morphlearn.physics.options import SweepOptions
+from morphlearn.physics.params import EmpiricalParams
+from morphlearn.physics.rows import CHUNK_VARS, Engine
 from morphlearn.results import DesignResult
 
 Point = tuple[float, float]
@@ -52,13 +52,6 @@ Point = tuple[float, float]
 FORMAT = "morphlearn.refine_design/1"
 #: Status of a cell whose row is not computed yet (partial results only; never in a store).
 NOT_RUN = -1
-#: The chunk arrays, their dtypes (those of DesignResult, plus the physics steps for the cost).
-CHUNK_VARS: dict[str, np.dtype] = {
-    "first_time": np.dtype(np.float32),
-    "min_dist": np.dtype(np.float32),
-    "status": np.dtype(np.int8),
-    "steps": np.dtype(np.int16),
-}
 _ZIP_DATE = (1980, 1, 1, 0, 0, 0)  # fixed, so a chunk's bytes depend on its numbers only
 
 
@@ -287,88 +280,11 @@ def compute_row(runner: Any, job: Job, row: int) -> dict[str, np.ndarray]:
     return ENGINES[job.engine].row(runner, job, row)
 
 
-def _pybullet_row(runner: Any, job: Job, row: int) -> dict[str, np.ndarray]:
-    """The row's 4 x m episodes one by one, as ``evaluate_design`` calls them."""
-    w, m, opt = job.weights, job.m, job.options
-    out = {
-        k: np.zeros((4, m), dtype=np.float64 if k in ("first_time", "min_dist") else dt) for k, dt in CHUNK_VARS.items()
-    }
-    from morphlearn.results import STATUS_NONFINITE, STATUS_OK
-
-    for env in range(4):
-        for j in range(m):
-            b = runner.bound(job.l1, job.l2, w[row], w[j], opt.margin) if opt.early_stop else None
-            ep = runner.run(job.l1, job.l2, w[row], w[j], env, bound=b)
-            out["first_time"][env, j] = ep.first_time
-            out["min_dist"][env, j] = ep.min_dist
-            out["status"][env, j] = STATUS_OK if ep.finite else STATUS_NONFINITE
-            out["steps"][env, j] = ep.steps
-    return {k: out[k].astype(dt) for k, dt in CHUNK_VARS.items()}  # the stored dtypes, as DesignResult
-
-
-def _mujoco_row(runner: Any, job: Job, row: int) -> dict[str, np.ndarray]:
-    """The row's 4 x m episodes in one MuJoCo batch (outcomes do not depend on the batch)."""
-    from morphlearn.results import STATUS_NONFINITE, STATUS_OK
-
-    w, m, opt = job.weights, job.m, job.options
-    env, j = np.repeat(np.arange(4), m), np.tile(np.arange(m), 4)
-    ep = runner.run(
-        job.l1, job.l2, np.stack([np.full(4 * m, w[row]), w[j]], 1), env, margin=opt.margin if opt.early_stop else None
-    )
-    out = {
-        "first_time": ep.first_time,
-        "min_dist": ep.min_dist,
-        "status": np.where(ep.finite, STATUS_OK, STATUS_NONFINITE),
-        "steps": ep.steps,
-    }
-    return {k: np.asarray(out[k]).reshape(4, m).astype(dt) for k, dt in CHUNK_VARS.items()}
-
-
-# ---------------------------------------------------------------- engines
-
-
-def _pybullet_identity() -> dict[str, Any]:
-    # pybullet's entry is what it was before MuJoCo existed, so its folders keep their run keys
-    return {"pybullet": provenance.library_versions().get("pybullet", "unknown")}
-
-
-def _pybullet_runner(params: EmpiricalParams) -> Any:
-    from morphlearn.empirical.episode import EpisodeRunner
-
-    return EpisodeRunner(params)
-
-
-def _mujoco_identity() -> dict[str, Any]:
-    import mujoco
-
-    from morphlearn.mujoco import MujocoSettings
-
-    return {"engine": "mujoco", "mujoco": mujoco.__version__, "mujoco_settings": asdict(MujocoSettings())}
-
-
-def _mujoco_runner(params: EmpiricalParams) -> Any:
-    from morphlearn.mujoco import BatchRunner
-
-    return nullcontext(BatchRunner(params))
-
-
-@dataclass(frozen=True)
-class Engine:
-    """How a folder's rows are computed in one physics engine."""
-
-    #: What the run key records about the engine (its version and settings).
-    identity: Callable[[], dict[str, Any]]
-    #: The episode runner for a body (a context manager).
-    runner: Callable[[EmpiricalParams], Any]
-    #: One w1 row's 4 x m episodes.
-    row: Callable[[Any, Job, int], dict[str, np.ndarray]]
-
-
-#: Engines a folder can be computed with (``pybullet`` is the reference engine; ``mujoco`` runs
-#: with its default ``MujocoSettings``).
+#: Engines a folder can be computed with, by engine name: every registered physics model that
+#: declares how a row is computed (:meth:`morphlearn.physics.model.Physics.row_engine`; ``pybullet``
+#: is the reference engine, ``mujoco`` runs with its default ``MujocoSettings``).
 ENGINES: dict[str, Engine] = {
-    "pybullet": Engine(_pybullet_identity, _pybullet_runner, _pybullet_row),
-    "mujoco": Engine(_mujoco_identity, _mujoco_runner, _mujoco_row),
+    m.engine: e for m in (models.get(n) for n in models.physics()) if (e := m.row_engine()) is not None
 }
 
 
@@ -589,3 +505,18 @@ def cost(folder: str | Path) -> dict[str, Any]:
         "episodes_per_wall_s": ep / wall if wall else math.nan,
         "episodes_per_cpu_s": ep / cpu if cpu else math.nan,
     }
+
+
+def check_engine(science: dict[str, Any]) -> None:
+    """Refuse (ValueError) to re-simulate a refine bundle's record with another engine version or
+    settings than it was simulated with: the re-simulation would not be the recorded run."""
+    ref = science["refine"]
+    engine = ENGINES.get(ref.get("engine"))
+    if engine is None:
+        raise ValueError(f"refine engine {ref.get('engine')!r} unknown here; allowed: {', '.join(ENGINES)}")
+    here = json.loads(json.dumps(engine.identity()))  # as the record stores it (tuples as lists)
+    if here != ref.get("engine_identity"):
+        raise ValueError(
+            f"the bundle was simulated with {ref.get('engine_identity')}, this machine runs {here}: "
+            "a re-simulation here would not be the recorded run"
+        )

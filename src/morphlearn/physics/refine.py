@@ -115,7 +115,7 @@ def misses(
 def refine_waves(
     m: int, n_maps: int, simulate: Callable[[np.ndarray], tuple[np.ndarray, np.ndarray]], stride: int
 ) -> np.ndarray:
-    """:func:`morphlearn.empirical.refine.refine` on ``n_maps`` (m, m) maps at once: each wave of
+    """:func:`morphlearn.physics.refine.refine` on ``n_maps`` (m, m) maps at once: each wave of
     every map is simulated in one call ``simulate(cells)`` (cells (k, 3) = map, i, j) returning
     ``(success, promising)``. The same cells as ``refine`` per map: ``refine`` too simulates a
     whole wave before it looks at its outcomes. Returns the (n_maps, m, m) simulated mask."""

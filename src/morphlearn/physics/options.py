@@ -16,8 +16,8 @@ from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import Any
 
-from morphlearn.empirical.reach import CHECK_EVERY
-from morphlearn.empirical.refine import DEFAULT_NEAR, DEFAULT_STRIDE
+from morphlearn.physics.reach import CHECK_EVERY
+from morphlearn.physics.refine import DEFAULT_NEAR, DEFAULT_STRIDE
 
 DEFAULT_MARGIN = 2.0
 

@@ -1,10 +1,10 @@
 """A workflow design's partial file seeded from an exhaustive ``tools/refine_design.py`` folder.
 
 A pybullet design at the paper's 121 x 121 weights is hours of one core. The exhaustive runner
-(:mod:`morphlearn.empirical.resumable`) and the workflow's evaluator make the same per-cell call
+(:mod:`morphlearn.resumable`) and the workflow's evaluator make the same per-cell call
 (same runner, same reach bound, same floats; ``tests/test_refine_design.py``), so the episodes
 of an exhaustive folder, complete or not, are episodes the workflow would simulate. :func:`seed`
-writes them as the design's partial file (:mod:`morphlearn.empirical.partial`) in a config's
+writes them as the design's partial file (:mod:`morphlearn.physics.partial`) in a config's
 design cache: the workflow run then "resumes" the design and simulates only the cells of its
 path (e.g. the adaptive grid's) that the folder lacks, to the bytes of a run that had no file
 (``evaluate_design`` infers the folder's cells its path does not visit, as it would have).
@@ -24,10 +24,10 @@ from pathlib import Path
 import numpy as np
 
 from morphlearn import design_cache
-from morphlearn.empirical import partial as partial_cells
-from morphlearn.empirical import resumable as rz
-from morphlearn.empirical.options import SweepOptions
-from morphlearn.empirical.params import EmpiricalParams
+from morphlearn import resumable as rz
+from morphlearn.physics import partial as partial_cells
+from morphlearn.physics.options import SweepOptions
+from morphlearn.physics.params import EmpiricalParams
 from morphlearn.settings import Settings
 
 

@@ -30,7 +30,7 @@ import math
 
 import numpy as np
 
-from morphlearn.empirical.params import BODY_SIZE, EmpiricalParams
+from morphlearn.physics.params import BODY_SIZE, EmpiricalParams
 
 #: Steps between two checks of the bound (0.5 s at dt = 0.05): a check costs a velocity query
 #: and a table lookup, a few per cent of a step if done every step.

@@ -1,0 +1,84 @@
+"""The whole config parsed into :class:`~morphlearn.settings.Settings`, once, at the edge: the shared
+sections (:mod:`morphlearn.settings`), each model's own section by its plug-in (the registry,
+:mod:`morphlearn.models`), and the bundles the config reads results from (checked here: present, on
+this grid, readable).
+
+Above the model registry: the Snakefile (``workflow/rules/common.smk``), each rule script's entry
+(``workflow/scripts/_entry.py``), the CLI and the scenario runner call :func:`parse` or :func:`load`.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from pathlib import Path
+from types import MappingProxyType
+from typing import Any
+
+from morphlearn import config as cfgmod
+from morphlearn import models
+from morphlearn import settings as st
+from morphlearn.physics.model import Physics
+
+
+def _parse_survey(sec: Mapping[str, Any], grid: st.GridSettings) -> st.SurveySettings:
+    """The survey bundle: a physics model's results on this grid holding every design of it."""
+    bundle, name = sec.get("bundle"), sec.get("model", "mujoco")
+    physics = models.physics()
+    if name not in physics:
+        raise cfgmod.ConfigError(f"survey_from.model = {name!r} is not a physics model; allowed: {physics}")
+    if bundle is None:
+        return st.SurveySettings(None, name, None)
+    model = models.get(name)
+    assert isinstance(model, Physics)
+    th, _, held = model.check_results_bundle(bundle, grid.positions_per_axis, key="survey_from.bundle")
+    if len(held) != grid.designs.size:
+        raise cfgmod.ConfigError(
+            f"survey_from.bundle = {bundle!r}: its {name} results hold {len(held)} of the grid's "
+            f"{grid.designs.size} designs; allowed: a survey of every design (e.g. results/survey9-mujoco)"
+        )
+    return st.SurveySettings(bundle, name, MappingProxyType(th))
+
+
+def parse(cfg: Mapping[str, Any]) -> st.Settings:
+    """Validate ``cfg`` (defaults filled, cross-checks) and parse it into :class:`~morphlearn.settings.Settings`.
+    Raises :class:`morphlearn.config.ConfigError` with a one-line message."""
+    v = cfgmod.validate(dict(cfg), models.path_keys(), models.schema_sections())
+    st.check_theory(v["theory"], lambda k: f"theory.{k}")
+    grid = st.section(st.GridSettings, v["grid"])
+    sweep = st.section(st.SweepSettings, v["sweep"])
+    figures = st.section(st.FigureSettings, v["figures"])
+    learners = st.section(st.LearnerSettings, v["learners"])
+    if learners.enabled:
+        g = grid.designs
+        n_run = min(len(g.representatives()), learners.max_designs or g.size)
+        if learners.shards > n_run:
+            raise cfgmod.ConfigError(
+                f"learners.shards = {learners.shards} exceeds the {n_run} designs the learners run; allowed: 1..{n_run}"
+            )
+    coopt = st.section(st.CooptSettings, v["coopt"])
+    st.check_coopt(coopt)
+    return st.Settings(
+        source=MappingProxyType(v),
+        results_dir=v["results_dir"],
+        design_cache=bool(v["design_cache"]),
+        grid=grid,
+        sweep=sweep,
+        analysis=st.section(st.AnalysisSettings, v["analysis"]),
+        figures=figures,
+        learners=learners,
+        coopt=coopt,
+        # each model parses its own section (schema defaults filled: {} when absent)
+        models=MappingProxyType(
+            {name: m.parse(v.get(name, {}), st.Shared(grid, sweep, figures)) for name, m in models.MODELS.items()}
+        ),
+        bundle_dir=v["bundle_dir"],
+        survey=_parse_survey(v["survey_from"], grid),
+        scenarios=v["scenarios"],
+        scenario_file=v["scenario_file"],
+        render_only=bool(v["render_only"]),
+    )
+
+
+def load(path: str | Path, overrides: list[str | Path] = ()) -> st.Settings:
+    """Read a YAML config (deep-merging override files, as ``--configfile`` does) and parse it."""
+    return parse(cfgmod.read(path, overrides))

@@ -1,0 +1,15 @@
+"""The physics layer: what every rigid-body engine model shares.
+
+- :mod:`.model`: the model base :class:`~.model.Physics` (config section, success rule, record,
+  per-design evaluation) on which an engine is data plus its episode function;
+- :mod:`.params`: the body and world parameters (:class:`~.params.EmpiricalParams`);
+- :mod:`.options`: the sweep's levers (early stop, adaptive weight grid);
+- :mod:`.reach`: the reach bound behind the early stop; :mod:`.refine`: the adaptive weight grid;
+- :mod:`.partial`: a running design's finished episodes (resume inside a design);
+- :mod:`.resumable`, :mod:`.seed`: one design at any weight resolution, row by row, and a design
+  seeded from such a folder.
+
+The engines are packages beside each other on this layer: :mod:`morphlearn.empirical` (pybullet),
+:mod:`morphlearn.mujoco`, :mod:`morphlearn.ode`. Nothing here imports an engine or anything above
+the model interface (import-linter contracts in pyproject.toml).
+"""

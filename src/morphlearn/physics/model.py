@@ -1,0 +1,367 @@
+"""The physics model base: what every rigid-body engine model shares, on which an engine is data.
+
+:class:`Physics` is what every rigid-body engine model shares: the same config section shape
+(``enabled``, ``morphology``, ``params``, ``weights``, ``designs``, mirrors, levers, ``results_from``,
+``shards``), the same success rule (touching the light within the episode) and the same record.
+An engine is a subclass naming its engine and its per-design evaluator (as scipy's
+``integrate._ivp`` methods are data on one base): pybullet (:mod:`morphlearn.empirical`, the
+registry's ``empirical``), MuJoCo (:mod:`morphlearn.mujoco`) and ODE (:mod:`morphlearn.ode`).
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import platform
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass
+from pathlib import Path
+from types import MappingProxyType
+from typing import TYPE_CHECKING, Any, ClassVar
+
+import numpy as np
+
+from morphlearn import bounded
+from morphlearn.config import ConfigError
+from morphlearn.errors import UsageError, c_stdout_to_stderr
+from morphlearn.model_interface import Done, Model, Resources
+from morphlearn.physics.options import SweepOptions
+from morphlearn.physics.params import EmpiricalParams, load_params
+from morphlearn.progress import EpisodeProgress
+from morphlearn.results import DesignResult
+
+if TYPE_CHECKING:
+    from morphlearn.grid import DesignGrid
+    from morphlearn.metrics import Thresholds
+    from morphlearn.physics.rows import Engine
+    from morphlearn.settings import Settings, Shared
+
+DEFAULT_MORPHOLOGY = "config/empirical_morphology.yaml"
+
+
+@dataclass(frozen=True)
+class PhysicsSettings:
+    """A physics model's section, typed, with its body file read (once)."""
+
+    enabled: bool
+    morphology: str
+    #: the body file's parameters with the section's ``params`` overrides (None when not read:
+    #: the model is off and no figure draws the body)
+    params: EmpiricalParams | None
+    weights: int
+    held: tuple[int, ...]  # designs its results hold
+    simulated: tuple[int, ...]  # designs it simulates (with mirror_derive one of each pair)
+    mirror_derive: bool
+    results_from: str | None
+    #: the thresholds a bundle's metrics were made with (results_from), else None
+    bundle_thresholds: Mapping[str, float] | None
+    options: SweepOptions
+    shards: int
+    optimise: Mapping[str, int]
+    science: Mapping[str, Any] | None
+
+
+class Physics(Model):
+    """A rigid-body engine's model of the robot (see the module docstring)."""
+
+    #: The engine, as records and captions name it.
+    engine: ClassVar[str]
+    #: The engine as prose names it (tables, docs).
+    engine_label: ClassVar[str] = ""
+    #: Fig. 1C draws this engine's body (read even when the model is off, if figures are drawn).
+    figure_body: ClassVar[bool] = False
+    #: Its ``evaluate_design`` takes ``partial=`` (a design resumes inside itself, see
+    #: :mod:`morphlearn.physics.partial`): the run's design cache then holds running designs too.
+    resumes_inside_design: ClassVar[bool] = False
+    cli_options = ("morphology",)
+    path_keys = ("morphology", "results_from")
+    schema_like = "empirical"  # the physics section's keys (config_schema.yaml)
+    #: The body file used when the section or ``morphology`` option names none.
+    default_morphology: ClassVar[str] = DEFAULT_MORPHOLOGY
+    #: Where the measured miss rate of its adaptive weight grid is documented (captions).
+    levers_doc: ClassVar[str] = "docs/empirical_levers.md"
+
+    # -- settings ----------------------------------------------------------------------------------
+    def parse(self, sec: Mapping[str, Any], shared: Shared) -> PhysicsSettings:
+        grid = shared.grid
+        enabled = bool(sec.get("enabled"))
+        g = grid.designs
+        results_from = sec.get("results_from")
+        bundle_th, weights, from_held = None, sec.get("weights", 11), ()
+        if enabled and results_from is not None:
+            # the bundle's weights, not the section's: the summary counts its controllers
+            bundle_th, weights, from_held = self.check_results_bundle(results_from, grid.positions_per_axis)
+        params, body = None, None
+        # the body file is read here, once: the sweep's science and Fig. 1C (the body) need it
+        if enabled or (self.figure_body and shared.figures.enabled):
+            body = self._read_body(sec.get("morphology", self.default_morphology))
+        overrides = dict(sec.get("params", {}))
+        if enabled and results_from is None:  # a bundle's results carry their own parameters
+            self._check_params(overrides, body)
+        if body is not None:
+            params = EmpiricalParams.from_mapping({**body.to_dict(), **overrides})
+        simulates = enabled and results_from is None
+        held = self._held(sec, g) if simulates else list(from_held)
+        mirror_derive = bool(sec.get("mirror_derive", False))
+        simulated = sorted({min(d, int(g.mirror(d))) for d in held}) if mirror_derive else list(held)
+        if simulates:
+            self._check_designs(sec, simulated)
+        options = SweepOptions.from_config(sec)
+        science = None
+        if simulates:
+            science = {
+                "model": self.name,
+                "positions_per_axis": grid.positions_per_axis,
+                "weights": sec["weights"],
+                "designs": list(held),
+                "params": {**body.to_dict(), **overrides},
+                # only when on, so that the digests of results made before the option existed hold
+                **({"mirror_derive": True} if mirror_derive else {}),
+                **options.science(),
+            }
+        return PhysicsSettings(
+            enabled=enabled,
+            morphology=sec.get("morphology", self.default_morphology),
+            params=params,
+            weights=weights,
+            held=tuple(held),
+            simulated=tuple(simulated),
+            mirror_derive=mirror_derive,
+            results_from=results_from,
+            bundle_thresholds=MappingProxyType(bundle_th) if bundle_th else None,
+            options=options,
+            shards=sec.get("shards", 1),
+            optimise=MappingProxyType(dict(sec.get("optimise", {}))),
+            science=MappingProxyType(science) if science else None,
+        )
+
+    def _read_body(self, path: str) -> EmpiricalParams:
+        try:
+            return load_params(path)
+        except ValueError as e:
+            raise ConfigError(
+                f"{self.name}.morphology = {path!r}: {e}; allowed: a YAML file of body parameters"
+            ) from None
+
+    def _check_params(self, overrides: Mapping[str, Any], body: EmpiricalParams | None) -> None:
+        for k in overrides:
+            if k not in EmpiricalParams.__dataclass_fields__:
+                raise ConfigError(
+                    f"unknown key ['{k}'] under '{self.name}.params'; "
+                    f"allowed: {sorted(EmpiricalParams.__dataclass_fields__)}"
+                )
+        try:
+            # on the body they override: the light must stay beyond the body's contact distance
+            EmpiricalParams.from_mapping({**(body.to_dict() if body else {}), **overrides})
+        except ValueError as e:
+            raise ConfigError(f"{self.name}.params.{e}") from None
+
+    def _held(self, sec: Mapping[str, Any], g: DesignGrid) -> list[int]:
+        """Sorted design indices the results hold: every design, or the listed ones (and with
+        ``include_mirrors`` their mirror images)."""
+        designs = sec.get("designs", "all")
+        if designs == "all":
+            return list(range(g.size))
+        idx = []
+        for i, (l1, l2) in enumerate(designs):
+            try:
+                idx.append(g.index_of(tuple(l1), tuple(l2)))
+            except ValueError as e:
+                raise ConfigError(f"{self.name}.designs.{i}: {e}") from None
+        d = np.array(idx, dtype=np.int64)
+        if sec.get("include_mirrors", True):
+            d = np.concatenate([d, g.mirror(d)])
+        return sorted({int(x) for x in d})
+
+    def _check_designs(self, sec: Mapping[str, Any], simulated: list[int]) -> None:
+        if sec.get("mirror_derive") and sec.get("designs") != "all" and not sec.get("include_mirrors", True):
+            raise ConfigError(
+                f"{self.name}.mirror_derive = true needs the mirror images in the results; "
+                f"allowed: {self.name}.include_mirrors = true or {self.name}.designs = all"
+            )
+        if sec["shards"] > len(simulated):
+            raise ConfigError(
+                f"{self.name}.shards = {sec['shards']} exceeds the {len(simulated)} designs "
+                f"simulated; allowed: 1..{len(simulated)}"
+            )
+
+    def check_results_bundle(
+        self, path: str, n: int, key: str | None = None
+    ) -> tuple[dict[str, float], int, tuple[int, ...]]:
+        """A bundle to read the results from: present, on this config's grid (its checksums are
+        checked when the results are copied, by the rule <model>_from_bundle). Returns the
+        thresholds its metrics were made with, its weights per synapse and the designs its results
+        hold (a survey: all; a refine bundle: a few). ``key``: the config key naming it (error
+        messages)."""
+        from morphlearn import store
+
+        key = key or f"{self.name}.results_from"
+        need = [
+            Path(path) / "bundle.json",
+            Path(path) / self.name / "metrics.csv",
+            Path(path) / self.name / "merged.zarr",
+        ]
+        missing = [str(p) for p in need if not p.exists()]
+        if missing:
+            raise ConfigError(
+                f"{key} = {path!r}: {missing[0]} is missing; allowed: a results bundle "
+                f"with {self.name} results (e.g. results/survey), or null"
+                + (" to simulate" if key.endswith("results_from") else "")
+            )
+        try:
+            merged = store.open_merged(Path(path) / self.name / "merged.zarr")
+            sci = store.science_of(merged)
+            positions = self.positions_of(sci)
+            weights = int(merged.sizes["w1"])
+            held = tuple(int(d) for d in sci["designs"])
+            prov = bounded.json_file(Path(path) / self.name / "metrics.provenance.json")
+            thresholds = dict(prov["config"]["thresholds"])
+        except Exception as e:  # a damaged store: say which and why, in one line
+            raise ConfigError(f"{key} = {path!r}: unreadable {self.name} results ({e})") from None
+        if positions != n:
+            raise ConfigError(
+                f"{key} = {path!r} holds results on the {positions}-point grid; "
+                f"allowed: a bundle on grid.positions_per_axis = {n}"
+            )
+        return thresholds, weights, held
+
+    def results_from(self, s: Settings) -> str | None:
+        return self.settings(s).results_from
+
+    # -- the sweep ---------------------------------------------------------------------------------
+    def inputs(self, s: Settings) -> dict[str, str]:
+        return {"morphology": self.settings(s).morphology}
+
+    def designs(self, s: Settings) -> np.ndarray:
+        return np.array(self.settings(s).simulated, dtype=np.int64)
+
+    def mirror_derived(self, s: Settings) -> bool:
+        """Physics mirror images are simulated unless ``mirror_derive`` (an engine is symmetric
+        only to solver tolerance)."""
+        return self.settings(s).mirror_derive
+
+    def thresholds(self, s: Settings) -> Thresholds:
+        from morphlearn.metrics import Thresholds
+
+        e = self.settings(s)
+        if e.bundle_thresholds is not None:  # the bundle's own, as its metrics were made
+            return Thresholds(**e.bundle_thresholds)
+        p = e.params  # success = touching the light within the episode
+        return Thresholds(p.horizon, p.contact_distance, p.horizon, p.contact_distance)
+
+    @staticmethod
+    def design_evaluator() -> Callable[..., DesignResult]:
+        """The engine's ``evaluate_design(l1, l2, weights, params, progress=, options=)``."""
+        raise NotImplementedError
+
+    def evaluate(self, s: Settings, designs: np.ndarray, done: Done | None = None) -> list[DesignResult]:
+        from tqdm import tqdm
+
+        from morphlearn import design_cache
+
+        e = self.settings(s)
+        evaluate_design = self.design_evaluator()
+        w = self.weights(s)
+        # the running design's episodes beside the finished designs (rules.run_shard's cache)
+        folder = None
+        if self.resumes_inside_design and s.design_cache and done:
+            folder = design_cache.cache_dir(s.results_dir, self.name, self.science(s))
+        out = []
+        for i, d in enumerate(tqdm(designs, unit="design", mininterval=1.0)):
+            log = EpisodeProgress(f"design {int(d)} ({i + 1}/{len(designs)})")
+            kw = {"partial": design_cache.partial_path(folder, int(d))} if folder else {}
+            out.append(evaluate_design(*self.sensors(s, int(d)), w, e.params, progress=log, options=e.options, **kw))
+            if done:
+                done(i, out[-1])  # stores the design (design_cache.save) ...
+            if folder:
+                kw["partial"].unlink(missing_ok=True)  # ... so its partial file is no longer needed
+        return out
+
+    @staticmethod
+    def sensors(s: Settings, design: int) -> tuple[tuple[float, float], tuple[float, float]]:
+        """The design's sensor points l1, l2 as :meth:`evaluate` passes them (grid floats: a
+        partial file's identity holds their reprs)."""
+        c = s.grid.designs.coords(np.array([int(design)]))[0]
+        return (c[0], c[1]), (c[2], c[3])
+
+    def partial_identity(self, s: Settings, design: int) -> str:
+        """The identity a partial file of ``design`` must name for :meth:`evaluate` to resume it."""
+        from morphlearn.physics import partial
+
+        e = self.settings(s)
+        return partial.identity(*self.sensors(s, design), self.weights(s), e.params, e.options)
+
+    def resimulate(self, science: Mapping[str, Any], designs: np.ndarray) -> list[DesignResult]:
+        from morphlearn import grid as gridmod
+        from morphlearn import store
+
+        g = gridmod.DesignGrid(self.positions_of(science))
+        w = gridmod.weights(science["weights"])
+        params = EmpiricalParams.from_mapping(science["params"])
+        options = SweepOptions.from_science(science)  # early stop, adaptive grid: as the run had them
+        evaluate_design = self.design_evaluator()
+        out, made = [], {}
+        for d in (int(x) for x in designs):
+            # mirror_derive: the run simulated one of each mirror pair (the lower index) and derived
+            # the other from it (store.merge_shards); an engine is symmetric only to tolerance
+            src = min(d, int(g.mirror(d))) if science.get("mirror_derive") else d
+            if src not in made:
+                c = g.coords(np.array([src]))[0]
+                made[src] = evaluate_design((c[0], c[1]), (c[2], c[3]), w, params, options=options)
+            r = made[src]
+            if src != d:
+                r = DesignResult(**store.mirror_arrays({v: getattr(r, v) for v in store.VARS}))
+            out.append(r)
+        return out
+
+    def backend(self, s: Settings) -> dict[str, str]:
+        return {"backend": self.engine, "device": f"cpu ({platform.machine()})"}
+
+    def resources(self, s: Settings) -> Resources:
+        return Resources(threads=1, runtime=240, mem_mb=2000)
+
+    def row_engine(self) -> Engine | None:
+        """How the resumable one-design runner (:mod:`morphlearn.resumable`) computes a w1 row in
+        this engine; None: the engine has no such runner (its designs resume inside the workflow)."""
+        return None
+
+    # -- records -----------------------------------------------------------------------------------
+    def positions_of(self, science: Mapping[str, Any]) -> int:
+        return int(science["positions_per_axis"])
+
+    def how_made(self, science: Mapping[str, Any]) -> str:
+        """How a record's designs were simulated (mirror derivation, refine bundle, adaptive grid),
+        for :meth:`describe`."""
+        how = "one of each mirror pair simulated, the other derived" if science.get("mirror_derive") else "simulated"
+        if science.get("refine"):  # a refine bundle (morphlearn.refine_bundle): say where it comes from
+            how += " one by one, every cell, by tools/refine_design.py (run keys in the store's record)"
+        if ad := science.get("adaptive_weights"):
+            how += (
+                f", weight grid refined adaptively around successes and near misses (within "
+                f"{ad.get('near')} contact distances; cells not simulated count as failures; "
+                f"measured miss rate in {self.levers_doc})"
+            )
+        return how
+
+    def describe(self, science: Mapping[str, Any], n_designs: int, m: int) -> str:
+        pr = science.get("params", {})
+        how = self.how_made(science)
+        return (
+            f"{n_designs} designs {how} on the {science.get('positions_per_axis')}-point grid, "
+            f"{m} weights per synapse; light distance {pr.get('light_distance', float('nan')):.4g}, "
+            f"{pr.get('steps')} steps of dt = {pr.get('dt')}, success = touching the light; body "
+            f"from the committed morphology (wheel radius {pr.get('wheel_radius', float('nan')):.4g})"
+        )
+
+    def evaluate_one(
+        self, l1: tuple[float, float], l2: tuple[float, float], w: np.ndarray, a: argparse.Namespace
+    ) -> DesignResult:
+        path = a.morphology or self.default_morphology
+        if not os.path.exists(path):  # a device or a FIFO exists: the bounded reader says what it is
+            raise UsageError(f"--morphology {path}: no such file (a YAML of body parameters)")
+        try:
+            params = load_params(path)
+        except ValueError as e:
+            raise UsageError(f"--morphology {path}: {e}") from None
+        with c_stdout_to_stderr():  # pybullet's banner
+            return self.design_evaluator()(l1, l2, w, params)

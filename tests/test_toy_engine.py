@@ -1,0 +1,118 @@
+"""The plug-in, proved: a toy engine (trivial analytic physics on the physics base) registered by
+its own package and one line in the model registry, and nothing else changed, reaches the CLI,
+the shard / merge / metrics rules, a bundle, figures 3, 6 and 7 and the reproduction rows.
+
+The project is copied (what a clone holds, :func:`conftest.copy_workflow`), the toy package is
+written into the copy's ``src`` and the registry line added; the copy's package is the one every
+process imports (``PYTHONPATH``)."""
+
+from __future__ import annotations
+
+import json
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+from conftest import copy_workflow
+
+TOY = '''"""A toy engine: success is analytic (same-sign weights, close enough for the sensors' spread)."""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+
+import numpy as np
+
+from morphlearn.physics.model import Physics
+from morphlearn.results import STATUS_OK, DesignResult
+
+
+def evaluate_design(l1, l2, weights, params, progress=None, options=None) -> DesignResult:
+    w1, w2 = np.meshgrid(np.asarray(weights), np.asarray(weights), indexing="ij")
+    spread = abs(l1[0] - l2[0]) + abs(l1[1] - l2[1])
+    ok = np.stack([(w1 * w2 > 0) & (np.abs(w1 - w2) <= spread * env / 4) for env in range(4)])
+    return DesignResult(
+        first_time=np.where(ok, 1.0, np.nan),
+        min_dist=np.where(ok, 0.0, 10.0 * params.contact_distance),
+        status=np.full(ok.shape, STATUS_OK),
+    )
+
+
+class Toy(Physics):
+    name = "toy"
+    engine = "toy"
+    env_file = "envs/empirical.yaml"
+
+    @staticmethod
+    def design_evaluator() -> Callable[..., DesignResult]:
+        return evaluate_design
+'''
+
+CONFIG = """\
+bundle_dir: results/toy-bundle
+empirical:
+  enabled: false
+toy:
+  enabled: true
+  weights: 5
+  designs: all
+  shards: 2
+"""
+
+
+def _run(wd: Path, *args: str, timeout: int = 900) -> subprocess.CompletedProcess[str]:
+    env = {**os.environ, "PYTHONPATH": str(wd / "src"), "MORPHLEARN_GIT_COMMIT": "test"}
+    r = subprocess.run(list(args), cwd=wd, capture_output=True, text=True, timeout=timeout, env=env)
+    assert r.returncode == 0, f"{' '.join(args)}:\n{r.stdout[-3000:]}\n{r.stderr[-3000:]}"
+    return r
+
+
+@pytest.fixture(scope="module")
+def toy_project(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    wd = copy_workflow(tmp_path_factory.mktemp("toy"))
+    pkg = wd / "src" / "morphlearn" / "toy"
+    pkg.mkdir()
+    (pkg / "__init__.py").write_text('"""A toy engine (tests/test_toy_engine.py)."""\n')
+    (pkg / "plugin.py").write_text(TOY)
+    reg = wd / "src" / "morphlearn" / "models.py"
+    text = reg.read_text()
+    line = '    "ode": "morphlearn.ode.plugin:Ode",\n'
+    assert text.count(line) == 1
+    reg.write_text(text.replace(line, line + '    "toy": "morphlearn.toy.plugin:Toy",\n'))  # the one line
+    (wd / "toy.yaml").write_text(CONFIG)
+    return wd
+
+
+def test_the_toy_reaches_the_cli(toy_project: Path) -> None:
+    exe = str(Path(sys.executable).with_name("morphlearn"))
+    r = _run(
+        toy_project, exe, "design", "--model", "toy", "--l1", "0.5", "0.5", "--l2", "0.5", "-0.5", "--weights", "5"
+    )
+    r = _run(
+        toy_project, exe, "design", "--model", "toy", "--l1", "0.5", "0.5", "--l2", "0.5", "-0.5", "--weights", "5",
+        "--json",
+    )  # fmt: skip
+    out = json.loads(r.stdout.strip().splitlines()[-1])
+    # w in {-1, -0.5, 0, 0.5, 1}, spread 1: the 8 same-sign pairs, 4 of them equal (all four
+    # environments), 4 half a unit apart (environments 2 and 3: within 2/4 and 3/4)
+    assert out["generalists"] == 4 and out["per_env"] == [4, 4, 8, 8], out
+
+
+def test_the_toy_reaches_rules_bundle_figures_and_reproduction(toy_project: Path) -> None:
+    wd = toy_project
+    snakemake = str(Path(sys.executable).with_name("snakemake"))
+    _run(wd, snakemake, "all", "bundle", "--cores", "2", "--configfile", "config/smoke.yaml", "toy.yaml")
+    r = wd / "results"
+    assert sorted(p.name for p in (r / "toy" / "shards").glob("*.nc")) == ["shard_0.nc", "shard_1.nc"]
+    table = (r / "toy" / "metrics.csv").read_text().splitlines()
+    assert len(table) == 1 + 81 and table[1].startswith("toy,")  # every design of the 3-point grid
+    bundle = wd / "results" / "toy-bundle"
+    manifest = json.loads((bundle / "bundle.json").read_text())
+    assert any(f.startswith("toy/") for f in manifest["files"]), sorted(manifest["files"])[:20]
+    for fig in ("fig3", "fig6", "fig7"):
+        caption = (bundle / "figures" / f"{fig}.caption.md").read_text()
+        assert "toy" in caption, (fig, caption[:500])
+    repro = (bundle / "reproduction.md").read_text()
+    assert any("toy" in line for line in repro.splitlines() if line.startswith("|")), repro[:2000]
