@@ -97,6 +97,38 @@ def made_by(configs: list[str], results_dir: str) -> dict[str, Any]:
     }
 
 
+#: What a commit reads as when the code that made something is not a commit.
+UNCOMMITTED = ("-dirty", "unknown")
+
+
+def uncommitted(commit: str) -> bool:
+    """A commit record that names no commit: a worktree with uncommitted changes, or no git."""
+    return commit.endswith(UNCOMMITTED[0]) or commit == UNCOMMITTED[1]
+
+
+def check_committed(made_by: dict[str, Any], run_dir: str | Path, simulated: list[str]) -> None:
+    """A bundle names the commit that made it, so it is made from committed code only: refuse
+    (BundleError) a dirty worktree, and shards of this run's simulated models made from one (the
+    record would claim a commit that did not make them; a worktree's diff is not recorded). Results
+    read from another bundle keep that bundle's record."""
+    if uncommitted(made_by["git_commit"]):
+        raise BundleError(
+            f"the worktree is at {made_by['git_commit']}: a bundle is made from committed code only; "
+            "allowed: commit (or stash) the changes, then run the bundle rule again (finished shards are kept)"
+        )
+    for model in simulated:
+        by = _simulated_by(Path(run_dir) / model / "merged.zarr")
+        # per design where the shards record it (a design reused from the design cache keeps its commit)
+        commits = by.get("design_commits") or by.get("git_commits", {})
+        bad = sorted(c for c in commits if uncommitted(c))
+        if bad:
+            raise BundleError(
+                f"{run_dir}/{model}: {sum(commits[c] for c in bad)} design(s) or shard(s) were simulated at {bad[0]}, "
+                "not a commit; allowed: shards made at a clean commit (delete those shards and the design "
+                "cache entries of that run, or re-run from a clean worktree)"
+            )
+
+
 def check_target(bundle_dir: str | Path, made_by: dict[str, Any]) -> None:
     """Refuse (BundleError) a ``bundle_dir`` whose contents this run did not make: only an absent or
     empty folder, or a bundle whose ``bundle.json`` names the same configs and results folder, may
@@ -314,6 +346,12 @@ def readme(manifest: dict[str, Any], run_dir: Path, cost: pd.DataFrame) -> str:
             + "; ".join(
                 ", ".join(f"{k}: {v}" for k, v in by.get(part, {}).items())
                 for part in ("git_commits", "backends", "devices")
+            )
+            # the commit that computed each design, where the shards record it (design cache reuse)
+            + (
+                "; designs by commit: " + ", ".join(f"{k}: {v}" for k, v in dc.items())
+                if (dc := by.get("design_commits"))
+                else ""
             )
         )
     if len(cost):

@@ -14,6 +14,7 @@ Disk: the cache holds the same arrays as the shards (theory at paper resolution 
 
 from __future__ import annotations
 
+import json
 from pathlib import Path
 from typing import Any
 
@@ -61,10 +62,12 @@ def load(
     science: dict[str, Any],
     m: int,
     legacy: Path | None = None,
+    commits: dict[int, str] | None = None,
 ) -> dict[int, DesignResult]:
     """The designs of ``designs`` already in ``folder`` (else in ``legacy``, see :func:`legacy_dir`)
     that verify; damaged or foreign ones are reported and left to be recomputed (their file is
-    overwritten then)."""
+    overwritten then). ``commits``, when given, receives the commit each reused design was made at
+    (its file's record), so a shard names the code of every design it holds."""
     found: dict[int, DesignResult] = {}
     places = [(folder, design_science(science)), *([(legacy, science)] if legacy else [])]
     for d in designs:
@@ -79,6 +82,8 @@ def load(
                 print(f"design cache: not reused: {e}", flush=True)
                 continue
             found[int(d)] = DesignResult(*(sh.arrays[k][0] for k in store.VARS))
+            if commits is not None:
+                commits[int(d)] = json.loads(sh.attrs.get("provenance_json", "{}")).get("git_commit", "unknown")
             partial_path(folder, d).unlink(missing_ok=True)  # left by a kill between save and removal
             break
     return found

@@ -4,6 +4,7 @@
 from __future__ import annotations
 
 import json
+from collections import Counter
 from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
@@ -26,10 +27,11 @@ def run_shard(s: Settings, model: str, shard: int, out: str | Path) -> None:
     w = m.weights(s)
     prov = provenance.record(sci, libraries=m.libraries) | m.backend(s)
     results: dict[int, DesignResult] = {}
+    made_at: dict[int, str] = {}  # a reused design's commit (the design cache's record of it)
     folder = design_cache.cache_dir(s.results_dir, model, sci) if s.design_cache else None
     if folder:
         legacy = design_cache.legacy_dir(s.results_dir, model, sci)
-        results = design_cache.load(folder, designs, model=model, science=sci, m=len(w), legacy=legacy)
+        results = design_cache.load(folder, designs, model=model, science=sci, m=len(w), legacy=legacy, commits=made_at)
     todo = np.array([d for d in designs if int(d) not in results], dtype=np.int64)
     print(
         f"shard {shard}: {len(designs)} designs, reused {len(results)}, to compute {len(todo)}"
@@ -45,6 +47,10 @@ def run_shard(s: Settings, model: str, shard: int, out: str | Path) -> None:
 
     if len(todo):
         m.evaluate(s, todo, done=finished)
+    # the code of every design the shard holds: the commit that computed it (reused designs keep
+    # theirs), so a shard assembled now from designs of earlier code claims no commit for them
+    here = prov["git_commit"]
+    prov["design_commits"] = dict(sorted(Counter(made_at.get(int(d), here) for d in designs).items()))
     store.write_shard(
         out,
         model=model,

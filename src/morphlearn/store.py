@@ -246,9 +246,12 @@ def shard_provenance(paths: list[Path], merging_commit: str | None) -> dict[str,
     commits: dict[str, int] = {}
     backends: dict[str, int] = {}
     devices: dict[str, int] = {}
+    design_commits: dict[str, int] = {}  # designs per commit that computed them (shards that record it)
     for p in paths:
         with xr.open_dataset(p, engine="scipy", mask_and_scale=False) as ds:  # attributes only
             prov = json.loads(ds.attrs.get("provenance_json", "{}"))
+        for c, n in prov.get("design_commits", {}).items():
+            design_commits[c] = design_commits.get(c, 0) + int(n)
         for d, k in (
             (commits, prov.get("git_commit", "unknown")),
             (backends, prov.get("backend", "cpu")),
@@ -256,6 +259,8 @@ def shard_provenance(paths: list[Path], merging_commit: str | None) -> dict[str,
         ):
             d[k] = d.get(k, 0) + 1
     out = {"git_commits": commits, "backends": backends, "devices": devices}
+    if design_commits:
+        out["design_commits"] = dict(sorted(design_commits.items()))
     notes = []
     if len(commits) > 1:
         notes.append(f"shards come from {len(commits)} git commits {sorted(commits)}")

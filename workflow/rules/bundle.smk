@@ -15,6 +15,13 @@ if workflow.is_main_process:
     except bundlemod.BundleError as err:
         print(f"morphlearn: {err}", file=sys.stderr)
         sys.exit(2)
+    # said before hours of simulation, not only when the bundle rule refuses them
+    if bundlemod.uncommitted(provenance.git_commit()):
+        print(
+            f"morphlearn: note: the worktree is at {provenance.git_commit()}: the bundle rule refuses results "
+            "simulated from uncommitted code (commit first; bundle_dir is set)",
+            file=sys.stderr,
+        )
 
 
 rule bundle:

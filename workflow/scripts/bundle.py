@@ -6,10 +6,11 @@ from pathlib import Path
 sys.path.insert(0, str(Path(snakemake.scriptdir)))  # noqa: F821
 from _entry import setup
 
-setup(snakemake)  # noqa: F821
-from morphlearn import bundle  # noqa: E402
+S = setup(snakemake)  # noqa: F821
+from morphlearn import bundle, models  # noqa: E402
 
 p = snakemake.params  # noqa: F821
 made_by = bundle.made_by(list(p.configs), p.results)
 bundle.check_target(snakemake.output[0], made_by)  # noqa: F821  (also checked at the start)
+bundle.check_committed(made_by, p.results, models.simulated(S))
 bundle.build(p.results, snakemake.output[0], top=p.top, made_by=made_by)  # noqa: F821
