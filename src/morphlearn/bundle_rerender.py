@@ -16,6 +16,8 @@ import shutil
 import subprocess
 import sys
 import tempfile
+from collections.abc import Iterator
+from contextlib import contextmanager
 from pathlib import Path, PurePosixPath
 
 from morphlearn import bounded, bundle, bundle_check, provenance, store
@@ -52,6 +54,29 @@ def _copy_as_committed(src: Path, dst: Path, listed: dict[str, str]) -> None:
         shutil.copy2(src / rel, dst / rel)
 
 
+@contextmanager
+def rendered_copy(bundle_dir: str | Path, root: str | Path, cores: int = 2) -> Iterator[tuple[Path, dict, dict]]:
+    """Render a copy of the whole bundle ``bundle_dir`` (relative to ``root``) beside it
+    (``.rerender-<name>-*``, removed after): yields the copy, the bundle's manifest and the listed
+    files whose digests the render changed (relative path -> new digest). The bundle itself is not
+    touched. BundleError if it is not whole first or the render fails."""
+    root = Path(root)
+    path = root / bundle_dir
+    problems = bundle_check.check(path)
+    if problems:
+        raise bundle.BundleError(f"{bundle_dir}: not re-rendered: {len(problems)} problem(s) first, {problems[0]}")
+    manifest = bounded.json_file(path / bundle.MANIFEST)  # checked just above: a JSON object with its files
+    work = Path(tempfile.mkdtemp(prefix=f".rerender-{path.name}-", dir=path.parent))
+    try:
+        _copy_as_committed(path, work, manifest["files"])
+        rel = work.relative_to(root) if work.is_relative_to(root) else work
+        _render(render_command(rel, manifest, cores), root, rel)
+        changed = {r: provenance.sha256_file(work / r) for r in manifest["files"]}
+        yield work, manifest, {r: d for r, d in changed.items() if d != manifest["files"][r]}
+    finally:
+        shutil.rmtree(work, ignore_errors=True)
+
+
 def rerender(bundle_dir: str | Path, root: str | Path, cores: int = 2) -> list[str]:
     """Re-render ``bundle_dir`` (relative to the project ``root``) and re-seal its rendered files;
     the files whose digests changed. Raises BundleError (nothing re-sealed) if the bundle is not
@@ -61,21 +86,10 @@ def rerender(bundle_dir: str | Path, root: str | Path, cores: int = 2) -> list[s
     its parent folder, ignored by git like every folder of results/ that is not a bundle); only
     when it succeeded and changed nothing but rendered files are those files moved into the bundle
     and ``bundle.json`` rewritten last. A failure anywhere before leaves the bundle as it was."""
-    root = Path(root)
-    path = root / bundle_dir
-    problems = bundle_check.check(path)
-    if problems:
-        raise bundle.BundleError(f"{bundle_dir}: not re-rendered: {len(problems)} problem(s) first, {problems[0]}")
+    path = Path(root) / bundle_dir
     mpath = path / bundle.MANIFEST
-    manifest = bounded.json_file(mpath)  # checked just above: a JSON object with its files
     commit = provenance.git_commit()  # before the render writes anything
-    work = Path(tempfile.mkdtemp(prefix=f".rerender-{path.name}-", dir=path.parent))
-    try:
-        _copy_as_committed(path, work, manifest["files"])
-        rel = work.relative_to(root) if work.is_relative_to(root) else work
-        _render(render_command(rel, manifest, cores), root, rel)
-        changed = {r: provenance.sha256_file(work / r) for r in manifest["files"]}
-        changed = {r: d for r, d in changed.items() if d != manifest["files"][r]}
+    with rendered_copy(bundle_dir, root, cores) as (work, manifest, changed):
         other = sorted(r for r in changed if not is_rendered(r))
         if other:
             raise bundle.BundleError(
@@ -93,8 +107,6 @@ def rerender(bundle_dir: str | Path, root: str | Path, cores: int = 2) -> list[s
             for r, b in kept.items():
                 (path / r).write_bytes(b)
             raise
-    finally:
-        shutil.rmtree(work, ignore_errors=True)
     if changed:
         manifest["files"].update(changed)
         before = manifest.get("rendered_by", {}).get("files", [])

@@ -1,6 +1,8 @@
 """Command line of morphlearn: evaluate one design in any model (design), check stored results
-(verify, check-bundle, compare), re-render a bundle and re-seal what changed (rerender-bundle),
-and run the workflow after checking its config files (run). 'morphlearn VERB --help' for each."""
+(verify, check-bundle, compare), re-render a committed bundle and check it (render), start the
+explorer (explore), re-render a bundle with new figure code and re-seal what changed
+(rerender-bundle, maintainers), and run the workflow after checking its config files (run).
+'morphlearn VERB --help' for each."""
 
 from __future__ import annotations
 
@@ -86,6 +88,9 @@ def cmd_design(a: argparse.Namespace) -> int:
     res = model.evaluate_one(l1, l2, gridmod.weights(a.weights), a)
     dm = design_metrics(~np.isnan(res.first_time), res.status)
     out = {
+        "model": a.model,
+        "design": {"l1": list(l1), "l2": list(l2)},
+        "weights": a.weights,
         "per_env": dm.per_env,
         "generalists": dm.generalists,
         "at_least_one": dm.at_least_one,
@@ -167,6 +172,56 @@ def cmd_rerender_bundle(a: argparse.Namespace) -> int:
     return 0
 
 
+def cmd_render(a: argparse.Namespace) -> int:
+    """The reviewer's re-render: a committed bundle's figures and tables rendered from its own
+    results (nothing simulated) with the configs that made it, on a copy beside it, and compared
+    byte for byte with its bundle.json. The bundle is not touched (re-sealing is rerender-bundle's,
+    after a figure's code changed)."""
+    from morphlearn import bounded, bundle, bundle_rerender
+
+    root = Path.cwd()
+    if not (root / "Snakefile").is_file():
+        raise UsageError("run it from the project's root folder (where the Snakefile is)")
+    if not _exists(root / a.bundle / bundle.MANIFEST, "file", a.bundle):
+        raise UsageError(f"{a.bundle}: no {bundle.MANIFEST} (a results bundle under the project, e.g. results/paper)")
+    if a.cores < 1:
+        raise UsageError(f"--cores = {a.cores}; allowed: an integer >= 1 (Snakemake's cores for the render)")
+    files = bounded.json_file(root / a.bundle / bundle.MANIFEST).get("files", {})
+    if not any(str(f).startswith("figures/") for f in files):
+        raise UsageError(f"{a.bundle}: holds no figures (physics only): morphlearn check-bundle {a.bundle}")
+    print(f"{a.bundle}: rendering a copy from its results (a minute or two) ...", flush=True)
+    try:
+        with bundle_rerender.rendered_copy(a.bundle, root, a.cores) as (_, _, changed):
+            pass
+    except bundle.BundleError as e:
+        print(str(e))
+        return 1
+    if changed:
+        for rel in sorted(changed):
+            print(f"  {rel}: differs from {bundle.MANIFEST}")
+        print(f"{a.bundle}: {len(changed)} rendered file(s) differ: the figure code changed since the bundle was made")
+        return 1
+    print(f"{a.bundle}: re-rendered; every file is byte-identical to {bundle.MANIFEST}")
+    return 0
+
+
+def cmd_explore(a: argparse.Namespace) -> int:
+    """The interactive explorer (docs/explorer.md) as a web app: Voila on notebooks/explore.ipynb."""
+    import shutil
+
+    root = Path.cwd()
+    nb = root / "notebooks" / "explore.ipynb"
+    if not nb.is_file():
+        raise UsageError("run it from the project's root folder (notebooks/explore.ipynb)")
+    exe = os.path.join(os.path.dirname(sys.executable), "voila")
+    voila = exe if os.path.isfile(exe) else shutil.which("voila")
+    if voila is None:
+        raise UsageError("voila is not installed: the explorer extra (bash tools/setup.sh installs it)")
+    args = [voila, str(nb.relative_to(root)), f"--port={a.port}"] + ([] if a.browser else ["--no-browser"])
+    os.execv(voila, args)  # Voila's own exit code and signals from here on
+    return 0  # not reached
+
+
 def cmd_compare(a: argparse.Namespace) -> int:
     """Rank agreement of two metrics tables over the designs both hold (theory vs physics, or one
     body vs another)."""
@@ -233,11 +288,28 @@ def configfiles_of(args: Sequence[str]) -> list[str]:
     return out
 
 
+RUN_HELP = """usage: morphlearn run [SNAKEMAKE OPTIONS ...]
+
+Run the workflow: Snakemake with the same arguments, after checking the files its --configfile
+options name (an empty, binary or non-mapping file is refused in one line, exit 2, before
+Snakemake reads it). Examples:
+  morphlearn run --cores 2                                   the reduced workflow (config.yaml)
+  morphlearn run all bundle --cores 2 --configfile config/ode_paper.yaml
+  morphlearn run --profile profiles/slurm --configfile config/paper.yaml    on a SLURM cluster
+A bundle is made from committed code only (the bundle rule refuses a dirty worktree).
+
+Snakemake's own options follow.
+"""
+
+
 def cmd_run(args: Sequence[str]) -> int:
     """Snakemake, after the config files it would read first are checked: Snakemake loads its
     ``--configfile`` files before the workflow starts, so an empty, binary or non-mapping one
     stopped in Snakemake's words (exit 1, no file name); here it is refused in one line, exit 2."""
     import shutil
+
+    if any(x in ("-h", "--help") for x in args):
+        print(RUN_HELP, flush=True)  # what this verb does, before Snakemake's help
 
     from morphlearn.config import ConfigError, check_files
 
@@ -305,9 +377,28 @@ def build_parser() -> argparse.ArgumentParser:
         "resolution; e.g. empirical:12, a pybullet design of the 11 x 11 survey: about 50 CPU-s)",
     )
     b.set_defaults(func=cmd_check_bundle)
+    g = sub.add_parser(
+        "render",
+        help="re-render a committed bundle's figures and tables from its results and check them (reviewers)",
+        description=cmd_render.__doc__,
+    )
+    g.add_argument("bundle", metavar="DIR", help="the bundle, relative to the project root (e.g. results/paper)")
+    g.add_argument("--cores", type=int, default=2, metavar="N", help="Snakemake cores (2)")
+    g.set_defaults(func=cmd_render)
+    x = sub.add_parser(
+        "explore", help="start the interactive explorer (a Voila web app)", description=cmd_explore.__doc__
+    )
+    x.add_argument("--port", type=int, default=8866, metavar="N", help="the port it serves on (8866)")
+    x.add_argument("--browser", action="store_true", help="also open a browser (default: print the address only)")
+    x.set_defaults(func=cmd_explore)
     r = sub.add_parser(
         "rerender-bundle",
-        help="re-render a bundle's figures and tables with the current code and re-seal what changed",
+        help="maintainers: re-render a bundle with the current code and RE-SEAL it (rewrites bundle.json "
+        "for the rendered files that changed)",
+        description="Re-renders a bundle's figures and tables with the current code and rewrites the "
+        "SHA-256 of every rendered file that changed in its bundle.json (records rendered_by); data "
+        "files and the README are never re-sealed. For a figure's code change; a reviewer re-renders "
+        "with 'morphlearn render', which changes nothing.",
     )
     r.add_argument("bundle", metavar="DIR", help="the bundle, relative to the project root (e.g. results/survey)")
     r.add_argument("--cores", type=int, default=2, metavar="N", help="Snakemake cores (2)")
