@@ -444,7 +444,7 @@ def assemble(folder: str | Path, log: Callable[[str], None] | None = None) -> As
 
 def mirror_flips(succ: np.ndarray, rows_done: np.ndarray) -> dict[str, int]:
     """For a design that is its own mirror image: cell (env, i, j) against (ENV_MIRROR[env], j, i)
-    (DESIGN.md's mirror rule), over the pairs with both rows done; each unordered pair once."""
+    (the mirror rule of morphlearn.grid.ENV_MIRROR), over the pairs with both rows done; each unordered pair once."""
     mirrored = succ[list(ENV_MIRROR)].transpose(0, 2, 1)
     both = rows_done[:, None] & rows_done[None, :]
     cells = int(both.sum()) * 4

@@ -15,7 +15,7 @@ if TYPE_CHECKING:
 
 
 class Pybullet(Physics):
-    """The reference engine (DESIGN.md section 3), registered as ``empirical``."""
+    """The reference engine (docs/empirical.md), registered as ``empirical``."""
 
     name = "empirical"
     engine = "pybullet"

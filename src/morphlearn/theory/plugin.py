@@ -25,7 +25,7 @@ if TYPE_CHECKING:
     from morphlearn.results import DesignResult
     from morphlearn.settings import Settings, Shared
 
-#: The CLI's defaults where it is not given (the paper-matching settings, DESIGN.md section 2).
+#: The CLI's defaults where it is not given (the paper-matching settings, docs/model.md).
 CLI_HORIZON = 500.0
 CLI_R = 4.0
 CLI_RADIUS = 0.2
