@@ -10,13 +10,13 @@ in OUT (resumable: finished designs are kept).
 
 ``adaptive STORE``: replays the adaptive weight grid (:func:`morphlearn.physics.refine.misses`)
 on the exhaustive outcomes in a merged store (e.g. ``results/ode-paper-run/ode/merged.zarr``, every
-cell simulated) at several ``--near`` values: the successes and generalists it would miss and the
-share of episodes it would simulate.
+cell simulated) at several ``--near`` values and lattice ``--stride`` values (``adaptive_stride``):
+the successes and generalists it would miss and the share of episodes it would simulate.
 
 Usage::
 
     python benchmarks/validate_ode_levers.py mirror OUT [--pairs 20] [--m 11] [--seed 0]
-    python benchmarks/validate_ode_levers.py adaptive results/ode-paper-run/ode/merged.zarr
+    python benchmarks/validate_ode_levers.py adaptive results/ode-paper-run/ode/merged.zarr [--stride 2 4 6]
 """
 
 from __future__ import annotations
@@ -112,10 +112,11 @@ def cmd_adaptive(a: argparse.Namespace) -> None:
         first, dist = sel.first_time.values, sel.min_dist.values
         if np.isnan(dist).any():
             raise SystemExit(f"{a.store}: design {int(d)} is not exhaustive (unsimulated cells)")
-        for near in a.near:
-            r = misses(~np.isnan(first), dist, body.contact_distance, near)
-            rows.append({"design": int(d), **r})
-            print(json.dumps(rows[-1]))
+        for stride in a.stride:
+            for near in a.near:
+                r = misses(~np.isnan(first), dist, body.contact_distance, near, stride)
+                rows.append({"design": int(d), **r})
+                print(json.dumps(rows[-1]))
     if a.json:
         a.json.write_text(json.dumps(rows, indent=1) + "\n")
 
@@ -132,6 +133,7 @@ def main() -> None:
     ad = sub.add_parser("adaptive")
     ad.add_argument("store", type=Path)
     ad.add_argument("--near", type=float, nargs="+", default=[1.5, 2.0, 3.0, 4.0])
+    ad.add_argument("--stride", type=int, nargs="+", default=[2], help="lattice strides (adaptive_stride)")
     ad.add_argument("--json", type=Path)
     ad.set_defaults(func=cmd_adaptive)
     a = ap.parse_args()

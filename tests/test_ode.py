@@ -236,3 +236,19 @@ def test_a_killed_design_resumes_inside_itself_to_the_same_bytes(tmp_path, monke
     assert sum(ran) == simulated - 32  # the 32 episodes done before the kill are not run again
     for f in ("first_time", "min_dist", "status"):
         assert np.array_equal(getattr(resumed, f), getattr(whole, f), equal_nan=f != "status")
+
+
+def test_adaptive_stride_reaches_the_science_record() -> None:
+    """adaptive_stride (the coarse lattice's spacing) is a config key; stride 2, the default, is
+    recorded as before, so the results made before the key existed keep their digests."""
+    from morphlearn import config, configure, models
+
+    base = config.load("config.yaml", ["config/smoke.yaml"])
+    on = {"enabled": True, "weights": 9, "designs": [[[0.5, 0.5], [0.5, -0.5]]], "adaptive_weights": True}
+    sci = [
+        models.get("ode").science(configure.parse({**base, "ode": {**on, **extra}}))["adaptive_weights"]
+        for extra in ({}, {"adaptive_stride": 4})
+    ]
+    assert sci == [{"stride": 2, "near": 4.0}, {"stride": 4, "near": 4.0}]
+    with pytest.raises(config.ConfigError, match=r"ode\.adaptive_stride = 1 is invalid"):
+        configure.parse({**base, "ode": {**on, "adaptive_stride": 1}})

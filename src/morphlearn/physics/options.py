@@ -36,6 +36,7 @@ class SweepOptions:
         return cls(
             early_stop=bool(emp.get("early_stop", False)),
             adaptive_weights=bool(emp.get("adaptive_weights", False)),
+            stride=int(emp.get("adaptive_stride", DEFAULT_STRIDE)),
             near=float(emp.get("adaptive_near", DEFAULT_NEAR)),
         )
 
