@@ -7,22 +7,15 @@ from conftest import ROOT
 
 from morphlearn.cli import main
 
+#: What ``morphlearn design --json`` prints: the design and model it evaluated, then the metrics.
+DESIGN_JSON_KEYS = {"model", "design", "weights", "per_env", "generalists", "at_least_one", "M_L", "M_CF", "flagged"}
+
 
 def test_design_json_has_exactly_the_documented_keys(capsys: pytest.CaptureFixture) -> None:
     assert main(["design", "--l1", "0.5", "0.5", "--l2", "0.5", "-0.5", "--weights", "5", "--json"]) == 0
     out = json.loads(capsys.readouterr().out)
-    assert set(out) == {
-        "model",
-        "design",
-        "weights",
-        "per_env",
-        "generalists",
-        "at_least_one",
-        "M_L",
-        "M_CF",
-        "flagged",
-    }
-    assert out["model"] == "theory" and out["design"] == {"l1": [0.5, 0.5], "l2": [0.5, -0.5]} and out["weights"] == 5
+    assert set(out) == DESIGN_JSON_KEYS
+    assert (out["model"], out["design"], out["weights"]) == ("theory", {"l1": [0.5, 0.5], "l2": [0.5, -0.5]}, 5)
     assert len(out["per_env"]) == 4 and all(isinstance(x, int) for x in out["per_env"])
     assert out["M_L"] == out["generalists"] / 25
     # The canonical design is its own mirror image: 45 <-> 315 and 135 <-> 225 match.
@@ -71,18 +64,8 @@ def test_empirical_design_json_is_clean_stdout() -> None:
     )
     assert proc.returncode == 0, proc.stderr
     out = json.loads(proc.stdout)
-    assert set(out) == {
-        "model",
-        "design",
-        "weights",
-        "per_env",
-        "generalists",
-        "at_least_one",
-        "M_L",
-        "M_CF",
-        "flagged",
-    }
-    assert out["model"] == "empirical" and out["design"] == {"l1": [0.5, 0.5], "l2": [0.5, -0.5]} and out["weights"] == 2
+    assert set(out) == DESIGN_JSON_KEYS
+    assert (out["model"], out["design"], out["weights"]) == ("empirical", {"l1": [0.5, 0.5], "l2": [0.5, -0.5]}, 2)
     assert out["generalists"] >= 1  # w = (1, 1) reaches all four lights with the committed body
 
 
