@@ -764,7 +764,7 @@ def test_design_dt_too_small_is_said_in_a_short_number(capsys: pytest.CaptureFix
     assert "--dt 1e-300 needs 5e+302 RK4 steps" in err and len(err) < 200, err
 
 
-def test_readme_says_how_a_killed_local_run_resumes() -> None:
-    text = " ".join((ROOT / "README.md").read_text().split())
+def test_docs_say_how_a_killed_local_run_resumes() -> None:
+    text = " ".join((ROOT / "docs/workflow.md").read_text().split())
     at = text.index("a killed shard resumes")
     assert "--unlock" in text[at : at + 800] and "--rerun-incomplete" in text[at : at + 800]
