@@ -32,7 +32,7 @@ import numpy as np
 import pandas as pd
 import yaml
 
-from morphlearn import __version__, bounded, metrics, provenance, store
+from morphlearn import __version__, bounded, metrics, models, provenance, store
 from morphlearn import grid as gridmod
 from morphlearn.config import bundle_holding, source_folder
 
@@ -171,16 +171,14 @@ def check_target(bundle_dir: str | Path, made_by: dict[str, Any]) -> None:
 
 
 def _models(run_dir: Path) -> list[str]:
-    from morphlearn.models import MODELS
-
-    return [m for m in MODELS if (run_dir / m / "metrics.csv").is_file()]
+    return [m for m in models.MODELS if (run_dir / m / "metrics.csv").is_file()]
 
 
 def _survey_folders(run_dir: Path) -> list[str]:
     """``survey/<model>`` folders of the run: a survey copied from another bundle (already a subset)."""
-    from morphlearn.models import MODELS
-
-    return [f"{store.SURVEY_DIR}/{m}" for m in MODELS if (run_dir / store.SURVEY_DIR / m / "metrics.csv").is_file()]
+    return [
+        f"{store.SURVEY_DIR}/{m}" for m in models.MODELS if (run_dir / store.SURVEY_DIR / m / "metrics.csv").is_file()
+    ]
 
 
 def bundle_files(out_dir: Path) -> Iterable[Path]:
@@ -193,8 +191,8 @@ def bundle_files(out_dir: Path) -> Iterable[Path]:
 def build(run_dir: str | Path, out_dir: str | Path, *, top: int, made_by: dict[str, Any]) -> dict[str, Any]:
     """Write the bundle of ``run_dir`` to ``out_dir`` (replaced as a whole, atomically)."""
     run_dir, out_dir = Path(run_dir), Path(out_dir)
-    models = _models(run_dir)
-    if not models:  # a physics survey alone (config/survey9_mujoco.yaml) is a bundle too
+    held = _models(run_dir)
+    if not held:  # a physics survey alone (config/survey9_mujoco.yaml) is a bundle too
         raise BundleError(f"{run_dir}: no model's metrics.csv (<model>/metrics.csv); run the workflow first")
     subsets: dict[str, Any] = {}
     for name in ("summary.json", "reproduction.csv", "learners/correlations.csv"):  # custody: as recorded
@@ -206,7 +204,7 @@ def build(run_dir: str | Path, out_dir: str | Path, *, top: int, made_by: dict[s
             if (run_dir / name).is_file():
                 shutil.copy2(run_dir / name, tmp / name)
         surveys = _survey_folders(run_dir)
-        for model in [*models, *surveys]:
+        for model in [*held, *surveys]:
             (tmp / model).mkdir(parents=True)
             for name in MODEL_FILES:
                 shutil.copy2(run_dir / model / name, tmp / model / name)
@@ -293,8 +291,6 @@ def _simulated_by(merged: Path) -> dict[str, Any]:
 
 def positions_of(model_dir: str | Path) -> int:
     """Positions per axis of a model's run, from its merged dataset's science record."""
-    from morphlearn import models
-
     sci = store.science_of(store.open_merged(Path(model_dir) / "merged.zarr"))
     return models.get(sci["model"]).positions_of(sci)
 

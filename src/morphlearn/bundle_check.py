@@ -11,7 +11,7 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
-from morphlearn import bounded, metrics, provenance, store
+from morphlearn import bounded, metrics, models, provenance, store
 from morphlearn.bundle import MANIFEST, BundleError, bundle_files
 from morphlearn.grid import ENV_ANGLES_DEG, DesignGrid
 
@@ -160,8 +160,6 @@ def meaning_problems(metrics_csv: Path, table: pd.DataFrame) -> list[str]:
     design it holds must give the table's counts (its metrics recomputed from its arrays at the
     table's recorded thresholds). A table with no store beside it (a scenario's) is not checked
     here. At most a few lines per kind."""
-    from morphlearn import models
-
     merged = metrics_csv.parent / "merged.zarr"
     if not merged.is_dir():
         return []

@@ -10,13 +10,16 @@ import argparse
 import json
 import os
 import re
+import shutil
 import sys
+import warnings
 from collections.abc import Sequence
 from pathlib import Path
 from typing import Any, NoReturn
 
 import numpy as np
 
+from morphlearn import __version__
 from morphlearn import grid as gridmod
 from morphlearn.errors import UsageError, c_stdout_to_stderr
 from morphlearn.metrics import design_metrics
@@ -207,8 +210,6 @@ def cmd_render(a: argparse.Namespace) -> int:
 
 def cmd_explore(a: argparse.Namespace) -> int:
     """The interactive explorer (docs/explorer.md) as a web app: Voila on notebooks/explore.ipynb."""
-    import shutil
-
     root = Path.cwd()
     nb = root / "notebooks" / "explore.ipynb"
     if not nb.is_file():
@@ -225,8 +226,6 @@ def cmd_explore(a: argparse.Namespace) -> int:
 def cmd_compare(a: argparse.Namespace) -> int:
     """Rank agreement of two metrics tables over the designs both hold (theory vs physics, or one
     body vs another)."""
-    import warnings
-
     from scipy import stats
 
     from morphlearn import compare, metrics
@@ -263,7 +262,6 @@ class _Version(argparse.Action):
     """``--version``: package version and git commit (looked up only when asked: git is a subprocess)."""
 
     def __call__(self, parser: argparse.ArgumentParser, *_: object) -> None:
-        from morphlearn import __version__
         from morphlearn.provenance import git_commit
 
         print(f"morphlearn {__version__} (commit {git_commit()})")
@@ -306,8 +304,6 @@ def cmd_run(args: Sequence[str]) -> int:
     """Snakemake, after the config files it would read first are checked: Snakemake loads its
     ``--configfile`` files before the workflow starts, so an empty, binary or non-mapping one
     stopped in Snakemake's words (exit 1, no file name); here it is refused in one line, exit 2."""
-    import shutil
-
     if any(x in ("-h", "--help") for x in args):
         print(RUN_HELP, flush=True)  # what this verb does, before Snakemake's help
 

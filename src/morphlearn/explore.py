@@ -32,6 +32,7 @@ from morphlearn import bundle as bundlemod
 from morphlearn import grid as gridmod
 from morphlearn.figures import data
 from morphlearn.models import MODELS, REFERENCE
+from morphlearn.theory import TheoryParams, evaluate
 from morphlearn.theory.reference import ReferenceTrajectory
 
 #: Weight grids a live theory evaluation offers: the default run's 41 (about a second on 2 cores)
@@ -301,8 +302,6 @@ class Explorer:
         return Landscape(d, self.coords(d), self.res.weights, succ, arrays["first_time"], "bundle", None)
 
     def _live(self, d: int, m: int) -> Landscape:
-        from morphlearn.theory import TheoryParams, evaluate
-
         params = TheoryParams.from_config({**self.theory_params, "backend": "cpu"})
         w = gridmod.weights(m)
         t0 = time.perf_counter()
@@ -459,8 +458,6 @@ def export_csv(land: Landscape) -> str:
 
 def warm_up() -> None:
     """One tiny live evaluation: loads the theory kernel's compiled code from numba's cache."""
-    from morphlearn.theory import TheoryParams, evaluate
-
     evaluate(np.array([[0.5, 0.5, 0.5, -0.5]]), gridmod.weights(2), TheoryParams(horizon=1.0))
 
 

@@ -29,10 +29,12 @@ import ipywidgets as W  # noqa: N812 (the ipywidgets convention)
 import matplotlib.pyplot as plt
 import numpy as np
 import traitlets
+from IPython.display import display
 from matplotlib import patches
 from matplotlib.figure import Figure
 
 from morphlearn import explore
+from morphlearn import grid as gridmod
 from morphlearn.figures import data
 from morphlearn.figures.draw import matrix, panel, sketch, trajectory
 from morphlearn.grid import ENV_ANGLES_DEG
@@ -743,8 +745,6 @@ class App:
         what = change["new"]
         if what == "-":
             return
-        from morphlearn import grid as gridmod
-
         ex = self.ex
         d = ex.design_of(*gridmod.canonical_design()) if what == "canonical" else ex.best(what.split()[1])
         self.w_best.value = "-"
@@ -872,8 +872,6 @@ def _canvas_widget(fig: Figure) -> W.Widget:
         return c
     out = W.Output()
     with out:
-        from IPython.display import display
-
         display(fig)
     return out
 

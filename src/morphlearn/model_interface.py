@@ -16,6 +16,7 @@ Light imports only: the Snakefile imports this module at parse time.
 from __future__ import annotations
 
 import argparse
+import copy
 from abc import ABC, abstractmethod
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass
@@ -100,8 +101,6 @@ class Model(ABC):
         """The config subset that determines its numbers (its digest keys caches and stores): a
         copy of the record its parse made (its settings' ``science``; empty when it simulates
         nothing)."""
-        import copy
-
         return copy.deepcopy(dict(self.settings(s).science or {}))
 
     @abstractmethod

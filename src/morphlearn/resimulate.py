@@ -14,6 +14,7 @@ import pandas as pd
 from morphlearn import grid as gridmod
 from morphlearn import metrics, models, provenance, resumable, store
 from morphlearn.bundle import BundleError
+from morphlearn.bundle_check import meaning_problems
 
 #: What names designs (after an optional ``MODEL:``).
 _NAMED = ("canonical", "best_M_L", "best_M_CF")
@@ -69,8 +70,6 @@ def _resimulate_model(out_dir: Path, model: str, which: list[str]) -> list[str]:
     wanted = [d for w in which for d in _designs_of(w, table, g)]
     # the table's meaning first (check-bundle's check): a row whose coordinates are not its
     # design's would otherwise pass, the design being simulated at its index's coordinates
-    from morphlearn.bundle_check import meaning_problems
-
     meaning = [f"{folder}/metrics.csv: {p}" for p in meaning_problems(folder / "metrics.csv", table)]
     held = set(int(d) for d in merged["design"].values)
     # any row of the table, held or not: an edited row of a design whose arrays the bundle does

@@ -28,6 +28,7 @@ import json
 import math
 import os
 import signal
+import threading
 import time
 import zipfile
 from collections.abc import Callable
@@ -375,8 +376,6 @@ def run(
 
 
 def _main_thread() -> bool:
-    import threading
-
     return threading.current_thread() is threading.main_thread()
 
 

@@ -12,7 +12,8 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
-from morphlearn import design_cache, metrics, models, provenance, store
+from morphlearn import bundle, bundle_check, design_cache, metrics, models, provenance, store
+from morphlearn.bundle import MANIFEST
 from morphlearn.results import DesignResult
 from morphlearn.settings import Settings
 
@@ -105,8 +106,6 @@ def check_render_inputs(paths: list[str]) -> None:
     file by file, chunks included, and row by row; other results: every file present, every
     table against its provenance record and store, every chunk of every merged store against its
     digest."""
-    from morphlearn import bundle, bundle_check
-
     for p in sorted(paths):
         if not Path(p).exists():
             raise store.IntegrityError(f"{p}: missing (render_only re-renders from stored results)")
@@ -151,7 +150,6 @@ def check_stored_persistence(path: str | Path) -> None:
     A bundle made before that record existed (``results/survey``, bundled at 1f12008) has none;
     there its ``bundle.json`` vouches for the table, as it does for a bundle's older unsealed
     metrics records (:func:`provenance.check_derived`). A record present is always checked."""
-    from morphlearn.bundle import MANIFEST
     from morphlearn.figures.reproduction import RECORD
 
     path = Path(path)

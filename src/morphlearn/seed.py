@@ -23,7 +23,7 @@ from pathlib import Path
 
 import numpy as np
 
-from morphlearn import design_cache
+from morphlearn import design_cache, models
 from morphlearn import resumable as rz
 from morphlearn.physics import partial as partial_cells
 from morphlearn.physics.options import SweepOptions
@@ -46,8 +46,6 @@ class Seeded:
 
 def seed(folder: str | Path, s: Settings, model: str = "empirical") -> Seeded:
     """Write ``folder``'s episodes as the partial file of its design in ``s``'s design cache."""
-    from morphlearn import models
-
     plugin = models.get(model)
     if not getattr(plugin, "resumes_inside_design", False):
         raise rz.RefineError(f"model {model!r} keeps no partial designs; allowed: the pybullet model (empirical)")

@@ -22,6 +22,7 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
+from morphlearn import provenance
 from morphlearn.coopt.setups import Setup, SetupEvaluator, paper_setups
 from morphlearn.learners import algorithms, protocols
 from morphlearn.settings import CooptSettings
@@ -48,8 +49,6 @@ def best_design(metrics_csv: str | Path) -> dict[str, Any]:
     """The best two-weight designs of a theory metrics table: top by M_L and top by M_CF (ties:
     the lowest design index, so one of each mirror pair). The table is checked against its record
     first (custody: the one its metrics rule wrote, or a bundle's as its manifest lists it)."""
-    from morphlearn import provenance
-
     provenance.check_derived(metrics_csv)
     m = pd.read_csv(metrics_csv)
     cols = ["l1x", "l1y", "l2x", "l2y"]

@@ -20,7 +20,7 @@ import numpy as np
 
 from morphlearn.grid import env_starts
 from morphlearn.learners.objective import env_loss
-from morphlearn.theory import TheoryParams
+from morphlearn.theory import TheoryParams, cpu
 
 #: The paper's canonical design, l1 = (0.5, 0.5), l2 = (0.5, -0.5).
 CANONICAL = (0.5, 0.5, 0.5, -0.5)
@@ -77,8 +77,6 @@ class SetupEvaluator:
     trajectories: int = 0
 
     def __call__(self, design_idx: np.ndarray, env_idx: np.ndarray, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        from morphlearn.theory import cpu
-
         p = self.params
         coords, w = decode(self.setup, x)
         ft, dm, st = cpu.points4(

@@ -10,6 +10,9 @@ import time
 from pathlib import Path
 from typing import Any
 
+import numpy as np
+import pandas as pd
+
 from morphlearn import models, provenance, store
 from morphlearn.metrics import CSV_FLOAT_FORMAT
 from morphlearn.settings import CooptSettings, Settings
@@ -34,8 +37,6 @@ def parse_variant(name: str) -> tuple[str, float]:
 
 def science(s: Settings) -> dict[str, Any]:
     """What the stage's numbers depend on (the theory model's parameters and the coopt section)."""
-    from morphlearn import models
-
     return {"model": "coopt", "theory": models.get("theory").science(s)["theory"], "coopt": s.coopt.science()}
 
 
@@ -49,8 +50,6 @@ def landscape_coords(s: CooptSettings, name: str) -> tuple[float, ...]:
 
 
 def run_landscape(settings: Settings, name: str, out: str | Path) -> None:
-    import numpy as np
-
     from morphlearn.coopt.landscape import landscape
 
     s = settings.coopt
@@ -96,8 +95,6 @@ def run_analysis(settings: Settings, landscapes: list[str], run_csvs: list[str],
     """runs.csv, summary.csv, landscape.csv, summary.md and position_map.csv in ``out_dir``, and
     their sealed record summary.provenance.json (the inputs' digests and theirs). The figure is a
     registered figure notebook, notebooks/coopt.ipynb, that reads them."""
-    import pandas as pd
-
     from morphlearn.coopt import analysis, experiment
 
     s = settings.coopt

@@ -28,14 +28,18 @@ Deterministic for a seed, independent of ``workers``. Writes nothing.
 
 from __future__ import annotations
 
+import argparse
 import math
+import time
 from collections.abc import Callable, Sequence
 from concurrent.futures import ProcessPoolExecutor
+from pathlib import Path
 from typing import Any
 
 import numpy as np
 import pandas as pd
 import pybullet as pb
+import yaml
 
 from morphlearn.empirical.episode import EpisodeRunner
 from morphlearn.empirical.robot import LEFT_WHEEL, RIGHT_WHEEL, build_world
@@ -256,8 +260,6 @@ def morphology_yaml(
     pareto: pd.DataFrame, chosen: dict[str, Any], *, budget_evals: int, seed: int, **settings: Any
 ) -> str:
     """YAML text of the chosen body with a header saying how it was produced."""
-    import yaml
-
     row = pareto[pareto["chosen"]].iloc[0]
     reached = ", ".join(
         f"{a} deg: {row[f'time_{a}']:.2f} s" if row[f"success_{a}"] else f"{a} deg: missed" for a in ENV_ANGLES_DEG
@@ -287,10 +289,6 @@ def morphology_yaml(
 
 def main(argv: Sequence[str] | None = None) -> None:
     """``python -m morphlearn.empirical.optimise --budget N --seed S --out FILE.yaml``."""
-    import argparse
-    import time
-    from pathlib import Path
-
     ap = argparse.ArgumentParser(description="Base-morphology optimisation (NSGA-II).")
     ap.add_argument("--budget", type=int, required=True, help="body evaluations")
     ap.add_argument("--seed", type=int, required=True)

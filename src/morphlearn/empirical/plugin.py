@@ -7,6 +7,7 @@ from __future__ import annotations
 from collections.abc import Callable
 from typing import TYPE_CHECKING
 
+from morphlearn.empirical.rows import ENGINE
 from morphlearn.physics.model import Physics
 
 if TYPE_CHECKING:
@@ -31,6 +32,4 @@ class Pybullet(Physics):
         return evaluate_design
 
     def row_engine(self) -> Engine:
-        from morphlearn.empirical.rows import ENGINE
-
         return ENGINE

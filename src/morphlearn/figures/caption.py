@@ -13,8 +13,9 @@ from typing import Any
 
 import pandas as pd
 
+from morphlearn import grid as gridmod
 from morphlearn import provenance
-from morphlearn.figures.data import ModelResults, design_label, row_design
+from morphlearn.figures.data import ModelResults, dataset_label, design_label, engine_label, row_design
 from morphlearn.provenance import sha256_file
 
 PAPER_POSITIONS, PAPER_WEIGHTS = 9, 121
@@ -95,9 +96,6 @@ def subset_best(res: ModelResults, others: Sequence[ModelResults | None] = ()) -
     them (or their mirror images), so the choice of designs is checked, not assumed. Returns the
     text ("" when ``res`` holds every design) and the results of ``others`` it cites (for the
     caption's data paragraph)."""
-    from morphlearn import grid as gridmod
-    from morphlearn.figures.data import dataset_label, engine_label
-
     g = gridmod.DesignGrid(res.positions_per_axis or 0)
     if res.n_designs == g.size:
         return "", []

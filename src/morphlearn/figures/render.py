@@ -12,6 +12,7 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
+import pybullet as pb
 
 from morphlearn.empirical.robot import CASTOR, LEFT_WHEEL, RIGHT_WHEEL, build_world
 from morphlearn.physics.params import EmpiricalParams
@@ -43,8 +44,6 @@ def render_robot(
     target: Sequence[float] = (0.75, 0.3, 0.05),
 ) -> Render:
     """Picture of the robot with sensors at ``l1``, ``l2`` and a light ``light_xy`` away."""
-    import pybullet as pb
-
     p = params or EmpiricalParams()
     world = build_world(p, light_xy)
     c, robot = world.client, world.robot

@@ -15,6 +15,9 @@ import numpy as np
 
 from morphlearn.config import ConfigError
 from morphlearn.model_interface import Done, Resources
+from morphlearn.mujoco.episode import evaluate_design
+from morphlearn.mujoco.mjwarp import WarpBatchRunner, device_name, evaluate_designs, resolve_device
+from morphlearn.mujoco.rows import ENGINE
 from morphlearn.physics.model import Physics, PhysicsSettings
 
 if TYPE_CHECKING:
@@ -53,22 +56,16 @@ class Mujoco(Physics):
         return MujocoModelSettings(**{**fields, "science": science}, backend=backend)
 
     def row_engine(self) -> Engine:
-        from morphlearn.mujoco.rows import ENGINE
-
         return ENGINE
 
     @staticmethod
     def design_evaluator() -> Callable[..., DesignResult]:
-        from morphlearn.mujoco.episode import evaluate_design
-
         return evaluate_design
 
     def evaluate(self, s: Settings, designs: np.ndarray, done: Done | None = None) -> list[DesignResult]:
         e = self.settings(s)
         if e.backend == "cpu":
             return super().evaluate(s, designs, done)
-        from morphlearn.mujoco.mjwarp import WarpBatchRunner, evaluate_designs
-
         # one model on the GPU, its kernels compiled once; the episodes of as many designs as fill
         # a batch of NWORLD worlds share it (done is called as each batch of designs finishes)
         runner = WarpBatchRunner(e.params)
@@ -77,8 +74,6 @@ class Mujoco(Physics):
     def backend(self, s: Settings) -> dict[str, str]:
         if self.settings(s).backend == "cpu":
             return super().backend(s)
-        from morphlearn.mujoco.mjwarp import device_name, resolve_device
-
         return {"backend": "mujoco-warp", "device": device_name(resolve_device(None))}
 
     def describe(self, science: Mapping[str, Any], n_designs: int, m: int) -> str:

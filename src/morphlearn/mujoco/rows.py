@@ -9,6 +9,8 @@ from typing import Any
 
 import numpy as np
 
+from morphlearn.mujoco.episode import BatchRunner
+from morphlearn.mujoco.model import MujocoSettings
 from morphlearn.physics.params import EmpiricalParams
 from morphlearn.physics.rows import CHUNK_VARS, Engine, RowJob
 from morphlearn.results import STATUS_NONFINITE, STATUS_OK
@@ -33,14 +35,10 @@ def _row(runner: Any, job: RowJob, row: int) -> dict[str, np.ndarray]:
 def _identity() -> dict[str, Any]:
     import mujoco
 
-    from morphlearn.mujoco import MujocoSettings
-
     return {"engine": "mujoco", "mujoco": mujoco.__version__, "mujoco_settings": asdict(MujocoSettings())}
 
 
 def _runner(params: EmpiricalParams) -> Any:
-    from morphlearn.mujoco import BatchRunner
-
     return nullcontext(BatchRunner(params))
 
 

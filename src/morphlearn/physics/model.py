@@ -22,6 +22,7 @@ from typing import TYPE_CHECKING, Any, ClassVar
 import numpy as np
 
 from morphlearn import bounded
+from morphlearn import grid as gridmod
 from morphlearn.config import ConfigError
 from morphlearn.errors import UsageError, c_stdout_to_stderr
 from morphlearn.model_interface import Done, Model, Resources
@@ -292,7 +293,6 @@ class Physics(Model):
         return partial.identity(*self.sensors(s, design), self.weights(s), e.params, e.options)
 
     def resimulate(self, science: Mapping[str, Any], designs: np.ndarray) -> list[DesignResult]:
-        from morphlearn import grid as gridmod
         from morphlearn import store
 
         g = gridmod.DesignGrid(self.positions_of(science))

@@ -17,6 +17,7 @@ the step cap, or when the state stops being finite.
 from __future__ import annotations
 
 import math
+import types
 from collections.abc import Callable
 from typing import Any
 
@@ -322,8 +323,6 @@ def build(jit: Callable[[Any], Any], synapses: int = 2) -> Callable[..., tuple[f
     The functions refer to each other as module globals; compiling each into a fresh namespace
     makes every call site resolve to the compiled twin (``rhs`` resolves to ``rhs4`` for four).
     """
-    import types
-
     if synapses not in SYNAPSES:
         raise ValueError(f"synapses must be one of {sorted(SYNAPSES)}, got {synapses!r}")
     ns: dict[str, Any] = dict(globals())

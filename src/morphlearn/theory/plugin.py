@@ -14,11 +14,12 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from morphlearn import grid as gridmod
 from morphlearn.config import ConfigError
 from morphlearn.errors import UsageError
 from morphlearn.model_interface import Done, Model, Resources
 from morphlearn.settings import check_theory
-from morphlearn.theory import TheoryParams
+from morphlearn.theory import TheoryParams, evaluate, resolve_backend
 
 if TYPE_CHECKING:
     from morphlearn.metrics import Thresholds
@@ -134,24 +135,17 @@ class Theory(Model):
         )
 
     def evaluate(self, s: Settings, designs: np.ndarray, done: Done | None = None) -> list[DesignResult]:
-        from morphlearn.theory import evaluate
-
         return evaluate(
             s.grid.designs.coords(designs), self.weights(s), self.settings(s).params, progress=True, done=done
         )
 
     def resimulate(self, science: Mapping[str, Any], designs: np.ndarray) -> list[DesignResult]:
-        from morphlearn import grid as gridmod
-        from morphlearn.theory import evaluate
-
         g = gridmod.DesignGrid(self.positions_of(science))
         w = gridmod.weights(science["grid"]["weights"])
         return evaluate(g.coords(designs), w, TheoryParams.from_config(science["theory"]))
 
     def backend(self, s: Settings) -> dict[str, str]:
         """CPU and CUDA may differ in boundary cases, so the merge records and compares them."""
-        from morphlearn.theory import resolve_backend
-
         b = resolve_backend(self.settings(s).params.backend)
         if b == "cuda":
             try:
@@ -199,8 +193,6 @@ class Theory(Model):
     def evaluate_one(
         self, l1: tuple[float, float], l2: tuple[float, float], w: np.ndarray, a: argparse.Namespace
     ) -> DesignResult:
-        from morphlearn.theory import evaluate
-
         horizon = a.horizon if a.horizon is not None else CLI_HORIZON
         # RK4 takes horizon / dt steps: the step cap (meant for the adaptive integrator) follows.
         steps = TheoryParams.max_steps if a.dt is None else max(TheoryParams.max_steps, math.ceil(horizon / a.dt))

@@ -9,6 +9,7 @@ import numpy as np
 from matplotlib import patches
 from matplotlib.axes import Axes
 from matplotlib.figure import Figure
+from matplotlib.lines import Line2D
 
 from morphlearn.figures import data
 from morphlearn.figures.draw.panel import panel_letter
@@ -64,8 +65,6 @@ def trajectory_panel(
 
 
 def trajectory_legend(fig: Figure, near: float | None) -> None:
-    from matplotlib.lines import Line2D
-
     h = [
         Line2D([], [], color=c, lw=1.5, label=f"light at {a}°") for c, a in zip(ENV_COLORS, ENV_ANGLES_DEG, strict=True)
     ]
