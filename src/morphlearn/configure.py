@@ -22,7 +22,7 @@ from morphlearn.physics.model import Physics
 
 def _parse_survey(sec: Mapping[str, Any], grid: st.GridSettings) -> st.SurveySettings:
     """The survey bundle: a physics model's results on this grid holding every design of it."""
-    bundle, name = sec.get("bundle"), sec.get("model", "mujoco")
+    bundle, name = sec["bundle"], sec["model"]  # the schema fills both
     physics = models.physics()
     if name not in physics:
         raise cfgmod.ConfigError(f"survey_from.model = {name!r} is not a physics model; allowed: {physics}")
