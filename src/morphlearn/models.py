@@ -95,6 +95,11 @@ def schema_sections() -> dict[str, str]:
     return {n: m.schema_like for n, m in MODELS.items() if m.schema_like}
 
 
+def figure_body() -> str:
+    """The physics model whose body Fig. 1C draws (``Physics.figure_body``: the reference engine)."""
+    return next(n for n in physics() if getattr(MODELS[n], "figure_body", False))
+
+
 def physics() -> list[str]:
     """The registered rigid-body engine models (:class:`morphlearn.physics.model.Physics`)."""
     return [n for n, m in MODELS.items() if isinstance(m, Physics)]

@@ -49,13 +49,13 @@ def figures(s: Settings) -> list[str]:
 
 def trajectory_settings(s: Settings) -> dict[str, float]:
     """What a reference trajectory for a figure needs (figures.data.TheorySettings fields)."""
-    p = s.models["theory"].params
+    p = s.models[models.REFERENCE].params
     return {"r": p.r, "horizon": p.horizon, "radius": p.success_radius, "tol": p.rtol}
 
 
 #: Figure options computed from the settings rather than read from its ``figures`` section.
 DERIVED_FIGURE_OPTIONS: dict[str, Callable[[Settings], Any]] = {
-    "morphology": lambda s: s.models["empirical"].params.to_dict(),  # Fig. 1C: the physics body
+    "morphology": lambda s: s.models[models.figure_body()].params.to_dict(),  # Fig. 1C: the physics body
     "trajectory_settings": trajectory_settings,
     "top": lambda s: s.analysis.top,  # the survey figure's sensor maps: the summary's top designs
     "coopt_sigma": lambda s: s.coopt.sigmas[0],  # the coopt figure's evolution strategies: the first step
