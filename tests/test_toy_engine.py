@@ -22,22 +22,26 @@ TOY = '''"""A toy engine: success is analytic (same-sign weights, close enough f
 from __future__ import annotations
 
 from collections.abc import Callable
+from types import SimpleNamespace
 
 import numpy as np
 
 from morphlearn.physics.model import Physics
-from morphlearn.results import STATUS_OK, DesignResult
+from morphlearn.physics.options import SweepOptions
+from morphlearn.physics.sweep import sweep
+from morphlearn.results import DesignResult
 
 
 def evaluate_design(l1, l2, weights, params, progress=None, options=None) -> DesignResult:
-    w1, w2 = np.meshgrid(np.asarray(weights), np.asarray(weights), indexing="ij")
     spread = abs(l1[0] - l2[0]) + abs(l1[1] - l2[1])
-    ok = np.stack([(w1 * w2 > 0) & (np.abs(w1 - w2) <= spread * env / 4) for env in range(4)])
-    return DesignResult(
-        first_time=np.where(ok, 1.0, np.nan),
-        min_dist=np.where(ok, 0.0, 10.0 * params.contact_distance),
-        status=np.full(ok.shape, STATUS_OK),
-    )
+
+    def batch(w, env):  # the engine: a batch of episodes (weights (n, 2), environments (n,))
+        ok = (w[:, 0] * w[:, 1] > 0) & (np.abs(w[:, 0] - w[:, 1]) <= spread * env / 4)
+        far = 10.0 * params.contact_distance
+        return SimpleNamespace(first_time=np.where(ok, 1.0, np.nan), min_dist=np.where(ok, 0.0, far), finite=ok | True)
+
+    # the physics layer's sweep: the levers (adaptive grid, resume inside a design) come with it
+    return sweep(batch, l1, l2, weights, params, options or SweepOptions(), progress)
 
 
 class Toy(Physics):

@@ -30,8 +30,8 @@ from morphlearn.mujoco.model import LEFT, RIGHT, MujocoSettings, build_model
 from morphlearn.physics.options import SweepOptions
 from morphlearn.physics.params import EmpiricalParams
 from morphlearn.physics.reach import CHECK_EVERY, ReachBound, sensor_reach
-from morphlearn.physics.refine import refine_waves
-from morphlearn.results import STATUS_INFERRED, STATUS_NONFINITE, STATUS_OK, DesignResult
+from morphlearn.physics.sweep import sweep
+from morphlearn.results import DesignResult
 
 Point = tuple[float, float]
 #: Episodes per ``Batch``: bounds the memory of a 121 x 121 sweep; results do not depend on it.
@@ -258,40 +258,17 @@ def evaluate_design(
 
     The signature and result of :func:`morphlearn.empirical.episode.evaluate_design`, with the
     same levers: ``options.early_stop`` (the reach bound, margin ``options.margin``) and
-    ``options.adaptive_weights`` (:func:`refine_waves`, stride and near as there; unsimulated
+    ``options.adaptive_weights`` (the physics layer's sweep, :mod:`morphlearn.physics.sweep`; unsimulated
     cells get ``STATUS_INFERRED`` and NaN). ``progress(done, total)`` is called per batch.
     """
     options = options or SweepOptions()
     runner = runner or BatchRunner(params, settings)
     if params is not None and runner.params != params:
         raise ValueError("runner was built for other params than the ones passed")
-    w = np.asarray(weights, dtype=np.float64)
-    m = len(w)
-    first = np.full((4, m, m), np.nan)
-    dist = np.full((4, m, m), np.nan)
-    status = np.full((4, m, m), STATUS_OK, dtype=np.int8)
-    total = 4 * m * m
-    near = options.near * runner.params.contact_distance
     margin = options.margin if options.early_stop else None
-    counted = 0
 
-    def simulate(cells: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        nonlocal counted
-        e, i, j = cells.T
-        ep = runner.run(l1, l2, np.stack([w[i], w[j]], 1), e, margin=margin)
-        first[e, i, j] = ep.first_time
-        dist[e, i, j] = ep.min_dist
-        status[e[~ep.finite], i[~ep.finite], j[~ep.finite]] = STATUS_NONFINITE
-        counted += len(cells)
-        if progress is not None and counted < total:
-            progress(counted, total)
-        return ep.success, ep.min_dist <= near
+    def batch(w: np.ndarray, env: np.ndarray) -> Episodes:
+        return runner.run(l1, l2, w, env, margin=margin)
 
-    if options.adaptive_weights:
-        sim = refine_waves(m, 4, simulate, options.stride)
-        status[~sim] = STATUS_INFERRED
-    else:
-        simulate(np.argwhere(np.ones((4, m, m), bool)))
-    if progress is not None:
-        progress(total, total)
-    return DesignResult(first_time=first, min_dist=dist, status=status)
+    # a whole wave per batch (one call per wave; outcomes do not depend on the batch)
+    return sweep(batch, l1, l2, weights, runner.params, options, progress)

@@ -2,6 +2,9 @@
 
 - :mod:`.model`: the model base :class:`~.model.Physics` (config section, success rule, record,
   per-design evaluation) on which an engine is data plus its episode function;
+- :mod:`.sweep`: a design's sweep over (env, w1, w2) for an engine's batch of episodes, with the
+  levers (adaptive weight grid, resume inside a design) in one place (MuJoCo and ODE run on it;
+  pybullet still runs its own per-episode sweep, environment by environment: not moved yet);
 - :mod:`.params`: the body and world parameters (:class:`~.params.EmpiricalParams`);
 - :mod:`.options`: the sweep's levers (early stop, adaptive weight grid);
 - :mod:`.reach`: the reach bound behind the early stop; :mod:`.refine`: the adaptive weight grid;

@@ -1,0 +1,103 @@
+"""One design's sweep over (env, w1, w2), shared by the engines that run episodes in batches: an
+engine is its batch function (the episodes of given weights and environments) plus data; the
+levers live here once.
+
+- ``options.adaptive_weights``: the adaptive weight grid (:func:`morphlearn.physics.refine.refine_waves`,
+  its lattice stride and near-miss radius from ``options``); cells it never simulates get
+  ``STATUS_INFERRED`` and NaN arrays.
+- ``partial``: a file keeping the episodes done so far (saved every ``CHECKPOINT_S`` seconds and
+  when the sweep stops on an error or a kill, :mod:`morphlearn.physics.partial`); a design resumes
+  from it without simulating them again, to the same bytes (the adaptive grid chooses cells from
+  outcomes alone). The caller removes it once the design's result is stored.
+
+An episode's outcome does not depend on the batch it runs in (each engine's tests check it), so
+how the cells are cut into calls changes no result.
+"""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Callable
+from pathlib import Path
+from typing import Protocol
+
+import numpy as np
+
+from morphlearn.physics import partial as partial_cells
+from morphlearn.physics.options import SweepOptions
+from morphlearn.physics.params import EmpiricalParams
+from morphlearn.physics.refine import refine_waves
+from morphlearn.results import STATUS_INFERRED, STATUS_NONFINITE, DesignResult
+
+Point = tuple[float, float]
+
+
+class Outcomes(Protocol):
+    """A batch's outcomes, arrays of shape (n,)."""
+
+    first_time: np.ndarray  # first success (NaN: none)
+    min_dist: np.ndarray  # closest approach up to success or the end
+    finite: np.ndarray  # False where the state became non-finite
+
+
+#: ``batch(w, env)``: the episodes of weights ``w`` (n, 2) in environments ``env`` (n,).
+Batch = Callable[[np.ndarray, np.ndarray], Outcomes]
+
+
+def sweep(
+    batch: Batch,
+    l1: Point,
+    l2: Point,
+    weights: np.ndarray,
+    params: EmpiricalParams,
+    options: SweepOptions,
+    progress: Callable[[int, int], None] | None = None,
+    partial: Path | None = None,
+    chunk: int | None = None,
+) -> DesignResult:
+    """All (env, w1, w2) episodes of one design by ``batch``; arrays (4, m, m) [env, i_w1, i_w2].
+    ``chunk``: episodes per batch call (progress and checkpoints between calls); None: a whole
+    wave of the adaptive grid (or the whole grid) per call."""
+    w = np.asarray(weights, dtype=np.float64)
+    m = len(w)
+    ident, cells = partial_cells.resume(partial, l1, l2, w, params, options)
+    first, dist, status, have = cells.first_time, cells.min_dist, cells.status, cells.simulated
+    total = 4 * m * m
+    near = options.near * params.contact_distance
+    counted, saved = 0, time.monotonic()
+
+    def simulate(wave: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        nonlocal counted, saved
+        todo = wave[~have[tuple(wave.T)]]  # a resumed design's stored episodes are not run again
+        step = chunk or max(len(todo), 1)
+        for a in range(0, len(todo), step):
+            e, i, j = todo[a : a + step].T
+            ep = batch(np.stack([w[i], w[j]], 1), e)
+            first[e, i, j] = ep.first_time
+            dist[e, i, j] = ep.min_dist
+            status[e[~ep.finite], i[~ep.finite], j[~ep.finite]] = STATUS_NONFINITE
+            have[e, i, j] = True
+            counted += len(e)
+            if progress is not None and counted < total:
+                progress(counted, total)
+            if partial is not None and time.monotonic() - saved >= partial_cells.CHECKPOINT_S:
+                partial_cells.save(partial, ident, cells)
+                saved = time.monotonic()
+        e, i, j = wave.T
+        return ~np.isnan(first[e, i, j]), dist[e, i, j] <= near
+
+    try:
+        if options.adaptive_weights:
+            sim = refine_waves(m, 4, simulate, options.stride)
+            status[~sim] = STATUS_INFERRED
+            first[~sim] = np.nan  # a partial file may hold cells this path never asks for
+            dist[~sim] = np.nan
+        else:
+            simulate(np.argwhere(np.ones((4, m, m), bool)))
+    except BaseException:  # Ctrl-C, SIGTERM turned into an exception, an error: keep what is done
+        if partial is not None and have.any():
+            partial_cells.save(partial, ident, cells)
+        raise
+    if progress is not None:
+        progress(total, total)
+    return DesignResult(first_time=first, min_dist=dist, status=status)
