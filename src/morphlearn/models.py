@@ -3,7 +3,8 @@
 The workflow's simulate / merge / metrics rules are instantiated per registered model; summary,
 compare, bundle, captions, the reproduction table and the CLI ask this registry instead of
 comparing names. To add a model: its own package with a ``Model`` subclass, one line in
-:data:`PLUGINS`, and its config section in ``config_schema.yaml``.
+:data:`PLUGINS`, and its config section in ``config_schema.yaml`` (an engine on the physics base
+shares the physics section's keys without one: ``Model.schema_like``).
 
 Light imports only: the Snakefile imports this module at parse time.
 """
