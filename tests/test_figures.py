@@ -13,7 +13,7 @@ import pandas as pd
 import pytest
 import yaml
 
-from morphlearn import configure, grid, store
+from morphlearn import configure, grid, models, store
 from morphlearn.figures import caption, data, options, output, registry
 from morphlearn.figures.draw import distribution, matrix, panel, sketch
 from morphlearn.results import DesignResult
@@ -319,7 +319,9 @@ def test_every_registered_figure_has_a_notebook_taking_its_options(empirical: bo
         names = _parameters(ROOT / registry.notebook_path(fig))
         passed = {"results_dir", "png", "pdf", "caption", "style", *options.figure_options(s, fig)}
         assert passed <= names, (fig, passed - names)
-    assert "empirical_thresholds" not in options.figure_options(s, "fig6") or empirical
+    # the physics figures get every enabled physics model, and only those (registry order)
+    assert ("empirical" in options.figure_options(s, "fig6")["physics"]) == empirical
+    assert options.figure_options(s, "fig6")["physics_registered"] == models.physics()
     assert options.figure_options(s, "fig2")["fig2_envs"] == s.source["figures"]["fig2_envs"]
 
 
