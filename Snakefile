@@ -17,6 +17,7 @@ min_version("9.0")
 # Refused at start (one line, exit 2): a run from another folder, a config file that is not a YAML
 # mapping with each key once (Snakemake keeps the last of two equal keys silently).
 from morphlearn import config as cfgmod
+from morphlearn import engine_compare
 
 try:
     cfgmod.check_start(workflow.basedir, [*workflow.configfiles, "config.yaml"])
@@ -34,12 +35,30 @@ report: "workflow/report/workflow.rst"
 include: "workflow/rules/common.smk"
 
 
+# The engine comparison (config/engines.yaml): the committed tables it reads, and its figures.
+ENGINES = engine_compare.EnginesSettings.of(S)
+ENGINE_TARGETS = [
+    f"{R}/figures/{fig}.{ext}"
+    for fig in ("engines", "disagreement")
+    for ext in ("png", "pdf", "html")
+]
+
+
 # scenarios: named variants of this config instead of the main workflow (docs/scenarios.md).
 if S.scenarios is not None:
 
     include: "workflow/rules/scenarios.smk"
 
     ALL_TARGETS = SCENARIO_TARGETS
+
+
+# engines: the engine comparison only (render_only: its figures from the stored outputs).
+elif ENGINES.enabled:
+    if not RENDER_ONLY:
+
+        include: "workflow/rules/engines.smk"
+
+    ALL_TARGETS = ENGINE_TARGETS
 
 
 # render_only: no rule that simulates, merges or computes metrics exists.

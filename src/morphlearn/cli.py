@@ -1,6 +1,7 @@
 """Command line of morphlearn: evaluate one design in any model (design), check stored results
 (verify, check-bundle, compare), re-render a bundle and re-seal what changed (rerender-bundle),
-and run the workflow after checking its config files (run). 'morphlearn VERB --help' for each."""
+read, check or export a refine folder (refine), and run the workflow after checking its config
+files (run). 'morphlearn VERB --help' for each."""
 
 from __future__ import annotations
 
@@ -18,6 +19,7 @@ from typing import Any, NoReturn
 import numpy as np
 
 from morphlearn import grid as gridmod
+from morphlearn import refine_cli
 from morphlearn.metrics import design_metrics
 
 
@@ -339,6 +341,7 @@ def build_parser() -> argparse.ArgumentParser:
     c.add_argument("--top", type=int, default=10, metavar="K", help="also count shared top-K designs (10)")
     c.add_argument("--json", action="store_true", help="also print one JSON object")
     c.set_defaults(func=cmd_compare)
+    refine_cli.add_parser(sub)
     sub.add_parser(
         "run",
         help="snakemake with the same arguments, after checking the --configfile files (one line, exit 2)",

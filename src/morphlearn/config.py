@@ -137,6 +137,9 @@ PATH_KEYS = (
     "empirical.results_from",
     "theory.results_from",
     "survey_from.bundle",
+    "engines.pybullet",
+    "engines.mujoco",
+    "engines.theory",
 )
 
 
