@@ -17,7 +17,6 @@ min_version("9.0")
 # Refused at start (one line, exit 2): a run from another folder, a config file that is not a YAML
 # mapping with each key once (Snakemake keeps the last of two equal keys silently).
 from morphlearn import config as cfgmod
-from morphlearn import engine_compare
 
 try:
     cfgmod.check_start(workflow.basedir, [*workflow.configfiles, "config.yaml"])
@@ -35,8 +34,7 @@ report: "workflow/report/workflow.rst"
 include: "workflow/rules/common.smk"
 
 
-# The engine comparison (config/engines.yaml): the committed tables it reads, and its figures.
-ENGINES = engine_compare.EnginesSettings.of(S)
+# The engine comparison's figures (config/engines.yaml; ENGINES: common.smk).
 ENGINE_TARGETS = [
     f"{R}/figures/{fig}.{ext}"
     for fig in ("engines", "disagreement")

@@ -54,6 +54,13 @@ def test_engine_numbers_are_the_committed_ones(tmp_path: Path) -> None:
     stats = engine_compare.write_numbers(s, tmp_path / "engines.csv", tmp_path / "engines.json")
     assert (tmp_path / "engines.csv").read_bytes() == (MJ / "engines.csv").read_bytes()
     assert (tmp_path / "engines.json").read_bytes() == (MJ / "engines.json").read_bytes()
+    # custody: the sealed record names both files; an edit to either is caught before a read
+    from morphlearn import provenance
+
+    provenance.check_derived(tmp_path / "engines.csv")
+    (tmp_path / "engines.json").write_text((tmp_path / "engines.json").read_text().replace("625", "626", 1))
+    with pytest.raises(provenance.CustodyError, match=r"engines\.json"):
+        provenance.check_derived(tmp_path / "engines.csv")
     # the table reads back to the same floats (the figure draws it): the shortest exact repr
     both = pd.read_csv(tmp_path / "engines.csv")
     assert len(both) == 625 and stats["canonical_design"] == DesignGrid(5).index_of(*canonical_design())
@@ -64,7 +71,7 @@ def test_engine_numbers_are_the_committed_ones(tmp_path: Path) -> None:
 def test_engines_figure_renders_the_committed_bytes(tmp_path: Path) -> None:
     import matplotlib.image as mpimg
 
-    out = _render("engines", tmp_path, ("engines.csv", "engines.json"))
+    out = _render("engines", tmp_path, ("engines.csv", "engines.json", "engines.provenance.json"))
     img = mpimg.imread(out / "engines.png")
     assert img.shape[0] > 500 and img.shape[1] > 500
     dark = (img[..., :3].mean(axis=-1) < 0.5).mean()
@@ -76,7 +83,7 @@ def test_engines_figure_renders_the_committed_bytes(tmp_path: Path) -> None:
 @pytest.mark.slow
 def test_disagreement_figure_renders_the_committed_bytes(tmp_path: Path) -> None:
     body = CONFIG.models["empirical"].params.to_dict()
-    files = ("disagreement.json", "disagreement_success.npy", "disagreement_paths.npy")
+    files = ("disagreement.json", "disagreement_success.npy", "disagreement_paths.npy", "disagreement.provenance.json")
     out = _render("disagreement", tmp_path, files, morphology=body)
     for ext in ("png", "pdf", "caption.md"):
         got, want = (out / f"disagreement.{ext}").read_bytes(), (MJ / "figures" / f"disagreement.{ext}").read_bytes()

@@ -130,8 +130,9 @@ def numbers(both: pd.DataFrame) -> dict[str, Any]:
 
 def write_numbers(s: EnginesSettings, table_csv: str | Path, numbers_json: str | Path) -> dict[str, Any]:
     """The joined table (exact floats: pandas writes the shortest repr that reads back) and the
-    statistics, from the three committed tables."""
-    from morphlearn import store
+    statistics, from the three committed tables; custody: their sealed record
+    ``engines.provenance.json`` (the tables' digests and theirs), which the figure checks."""
+    from morphlearn import provenance, store
 
     t = s.tables()
     both = tables(*(read_table(t[k]) for k in ("pybullet", "mujoco", "theory")))
@@ -140,6 +141,8 @@ def write_numbers(s: EnginesSettings, table_csv: str | Path, numbers_json: str |
         both.to_csv(tmp, index=False)
     with store.atomic_path(Path(numbers_json)) as tmp:
         tmp.write_text(json.dumps(stats, indent=1) + "\n")
+    rec = provenance.record(s.science(), list(t.values()))
+    provenance.write_sealed(provenance.sidecar_of(table_csv), rec, [table_csv, numbers_json])
     return stats
 
 
@@ -236,10 +239,11 @@ def write_disagreement(
     s: EnginesSettings, params: EmpiricalParams, info_json: str | Path, success_npy: str | Path, paths_npy: str | Path
 ) -> dict[str, Any]:
     """:func:`disagreement`'s record as JSON and its arrays as ``.npy`` (no timestamp inside, unlike
-    ``.npz``: the same simulation gives the same bytes)."""
+    ``.npz``: the same simulation gives the same bytes); custody: their sealed record
+    ``disagreement.provenance.json`` (the body, the tables' digests and theirs)."""
     import numpy as np
 
-    from morphlearn import store
+    from morphlearn import provenance, store
 
     info, success, paths = disagreement(s, params)
     with store.atomic_path(Path(info_json)) as tmp:
@@ -247,6 +251,8 @@ def write_disagreement(
     for path, arr in ((success_npy, success), (paths_npy, paths)):
         with store.atomic_path(Path(path)) as tmp, open(tmp, "wb") as f:
             np.save(f, arr)
+    rec = provenance.record({**s.science(), "body": params.to_dict()}, [s.pybullet, s.mujoco])
+    provenance.write_sealed(provenance.sidecar_of(info_json), rec, [info_json, success_npy, paths_npy])
     return info
 
 

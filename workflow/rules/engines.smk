@@ -20,6 +20,8 @@ rule engines_numbers:
     output:
         table=update(f"{R}/engines.csv"),
         numbers=update(f"{R}/engines.json"),
+        # custody: the tables' digests and these files' (the figure checks it)
+        provenance=update(f"{R}/engines.provenance.json"),
     log:
         f"{R}/logs/engines/numbers.log",
     benchmark:
@@ -43,6 +45,7 @@ rule engines_disagreement:
         info=update(f"{R}/disagreement.json"),
         success=update(f"{R}/disagreement_success.npy"),
         paths=update(f"{R}/disagreement_paths.npy"),
+        provenance=update(f"{R}/disagreement.provenance.json"),
     log:
         f"{R}/logs/engines/disagreement.log",
     benchmark:
