@@ -34,12 +34,29 @@ report: "workflow/report/workflow.rst"
 include: "workflow/rules/common.smk"
 
 
+# The engine comparison's figures (config/engines.yaml; ENGINES: common.smk).
+ENGINE_TARGETS = [
+    f"{R}/figures/{fig}.{ext}"
+    for fig in ("engines", "disagreement")
+    for ext in ("png", "pdf", "html")
+]
+
+
 # scenarios: named variants of this config instead of the main workflow (docs/scenarios.md).
 if S.scenarios is not None:
 
     include: "workflow/rules/scenarios.smk"
 
     ALL_TARGETS = SCENARIO_TARGETS
+
+
+# engines: the engine comparison only (render_only: its figures from the stored outputs).
+elif ENGINES.enabled:
+    if not RENDER_ONLY:
+
+        include: "workflow/rules/engines.smk"
+
+    ALL_TARGETS = ENGINE_TARGETS
 
 
 # render_only: no rule that simulates, merges or computes metrics exists.

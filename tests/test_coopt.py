@@ -187,6 +187,37 @@ def test_position_map_is_the_best_m_l_with_the_sensor_there() -> None:
     assert m1.shape == (9, 9) and m1[8, 8] == pmap[(pmap.sensor == 1) & (pmap.x == 0.5) & (pmap.y == 0.5)].M_L.iloc[0]
 
 
+def test_restart_runs_give_the_committed_rows_and_summary(tmp_path) -> None:
+    """The restart runs (coopt.restart, rule coopt_restart_runs) of config/coopt.yaml: a run is a
+    function of its identity, so the first two seeds of setup (a)'s restarting (1+1)-ES, run here
+    alone, are the committed restart_runs.csv rows; the committed restart_summary.csv is the
+    analysis of the committed rows (the stage's seed, budgets and bootstrap)."""
+    import io
+
+    from morphlearn.coopt import analysis, experiment, stage
+    from morphlearn.metrics import CSV_FLOAT_FORMAT
+
+    full = configure.load(ROOT / "config.yaml", [ROOT / "config/coopt.yaml"])
+    r = stage.restart_settings(full)
+    assert r is not None and r.learners == ("one_plus_one_restart", "cmaes_restart") and r.setups == ("a", "e")
+    assert stage.variant_names(r) == ["one_plus_one_restart-0.5", "cmaes_restart-0.5"]
+    assert stage.restart_settings(configure.load(ROOT / "config.yaml")) is None  # off by default
+    cfg = config.read(ROOT / "config.yaml", [ROOT / "config/coopt.yaml"])
+    cfg["coopt"]["seeds"] = 2
+    out = tmp_path / "a.csv"
+    stage.run_variant(configure.parse(cfg), "a", "one_plus_one_restart-0.5", out, restart=True)
+    committed = pd.read_csv(ROOT / "results/coopt/restart_runs.csv", keep_default_na=False, dtype=str)
+    mine = pd.read_csv(out, keep_default_na=False, dtype=str)
+    want = committed[(committed.setup == "a") & (committed.learner == "one_plus_one_restart")]
+    want = want[want.seed.isin(["0", "1"])].reset_index(drop=True)
+    assert len(mine) == 2 and mine.equals(want[list(mine.columns)])
+    # the summary: the analysis's, of the committed rows
+    runs = pd.read_csv(ROOT / "results/coopt/restart_runs.csv")
+    buf = io.StringIO()
+    analysis.sort_summary(experiment.summarise(runs, r)).to_csv(buf, index=False, float_format=CSV_FLOAT_FORMAT)
+    assert buf.getvalue() == (ROOT / "results/coopt/restart_summary.csv").read_text()
+
+
 def test_committed_bundle_figure_renders_from_the_bundle_alone_to_the_same_bytes(tmp_path) -> None:
     """notebooks/coopt.ipynb on a copy of results/coopt (the project root elsewhere): every file,
     the figure's PNG, PDF and caption included, matches the committed bundle.json."""

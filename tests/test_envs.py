@@ -52,13 +52,28 @@ SMOKE_STEPS = {
     ),
     "analysis": (["merge", "metrics", "summary"], ["results/summary.md"]),
     "learners": (
-        ["learners_shard", "learners_analysis", "coopt_landscape", "coopt_runs", "coopt_analysis"],
+        [
+            "learners_shard",
+            "learners_analysis",
+            "coopt_landscape",
+            "coopt_runs",
+            "coopt_restart_runs",
+            "coopt_analysis",
+        ],
         ["results/learners/summary.md", "results/coopt/summary.md"],
     ),
-    # Every notebook, the reproduction table and the results bundle (which holds all of them).
+    # Every notebook, the reproduction table and the results bundle (which holds all of them); the
+    # coopt stage's bundle (its tables and figure)
     "figures": (
-        [*(f"figure_fig{i}" for i in range(1, 8)), "figure_learners", "figure_coopt", "reproduction", "bundle"],
-        ["results/bundle"],
+        [
+            *(f"figure_fig{i}" for i in range(1, 8)),
+            "figure_learners",
+            "figure_coopt",
+            "reproduction",
+            "bundle",
+            "coopt_bundle",
+        ],
+        ["results/bundle", "results/coopt-bundle/bundle.json"],
     ),
 }
 CONFIGS = ("config/smoke.yaml", "tiny_optimise.yaml", "tiny_learners.yaml")
@@ -80,9 +95,23 @@ READER_STEP = (
     ["empirical_from_bundle", "theory_from_bundle"],
     ["results/reader/empirical/metrics.csv", "results/reader/theory/metrics.csv"],
 )
+# The engine comparison (config/engines.yaml) on the copy's committed survey (pybullet against
+# itself: what is checked is what the rules import): env -> (rules, targets).
+ENGINE_STEPS = {
+    "analysis": (["engines_numbers"], ["results/eng/engines.json"]),
+    "figures": (["figure_engines"], ["results/eng/figures/engines.png"]),
+}
+ENGINE_CONFIGS = ("config/smoke.yaml", "eng.yaml")
 # Rules that run the same script in the same environment as a rule run above (what this test
 # checks is that an environment holds what a rule's script imports): rule -> that rule.
-SAME_SCRIPT_AND_ENV = {"survey_from_bundle": "empirical_from_bundle"}
+# engines_disagreement imports what empirical_shard imports (both engines' episode runners) and
+# takes 2-3 CPU-minutes on the committed surveys: not run here (tests/test_engines.py checks its
+# committed outputs); figure_disagreement draws with figure_engines' imports.
+SAME_SCRIPT_AND_ENV = {
+    "survey_from_bundle": "empirical_from_bundle",
+    "engines_disagreement": "empirical_shard",
+    "figure_disagreement": "figure_engines",
+}
 
 
 def build_env(name: str, dest: Path) -> Path:
@@ -114,7 +143,7 @@ def test_every_conda_rule_is_run() -> None:
     for smk in (ROOT / "workflow/rules").glob("*.smk"):
         text = smk.read_text()
         for name, env in re.findall(r'rule (\w+):\n(?:.*\n)*?\s+conda:\s*\n\s*"\.\./\.\./envs/(\w+)\.yaml"', text):
-            run = SMOKE_STEPS[env][0] + SCENARIO_STEPS.get(env, ([], []))[0]
+            run = SMOKE_STEPS[env][0] + SCENARIO_STEPS.get(env, ([], []))[0] + ENGINE_STEPS.get(env, ([], []))[0]
             run = run + (READER_STEP[1] if env == READER_STEP[0] else [])
             assert SAME_SCRIPT_AND_ENV.get(name, name) in run, f"{smk.name}: rule {name} (envs/{env}.yaml) is not run"
     # the figure rules are made in a loop (rule name f"figure_{_fig}"): all name envs/figures.yaml
@@ -133,7 +162,12 @@ def test_each_env_runs_its_rules(tmp_path: Path) -> None:
         "threads: 1, bootstrap: 100}\n"
         # the coopt stage (docs/coopt.md), seconds: one setup, one learner, one seed, a 3^4 landscape
         "coopt: {enabled: true, setups: [a], learners: [random], budgets: [3], seeds: 1, landscape_weights: 3, "
-        "bootstrap: 100, best_metrics: results/survey/theory/metrics.csv}\n"
+        "bootstrap: 100, best_metrics: results/survey/theory/metrics.csv, "
+        # its restart runs and its bundle (rules coopt_restart_runs, coopt_bundle)
+        "restart: {learners: [one_plus_one_restart], setups: [a]}, bundle_dir: results/coopt-bundle}\n"
+    )
+    (wd / "eng.yaml").write_text(
+        "results_dir: results/eng\nengines: {enabled: true, mujoco: results/survey/empirical/metrics.csv}\n"
     )
     (wd / "s.yaml").write_text("base: {}\nshort:\n  theory:\n    horizon: 200.0\n")
     t0 = time.perf_counter()
@@ -158,6 +192,8 @@ def test_each_env_runs_its_rules(tmp_path: Path) -> None:
 
     for env, (rules, targets) in SMOKE_STEPS.items():
         run(env, *targets, "--allowed-rules", *rules)
+    for env, (rules, targets) in ENGINE_STEPS.items():
+        assert run(env, *targets, "--allowed-rules", *rules, configs=ENGINE_CONFIGS) == {r: 1 for r in rules}
     for env, (rules, until) in SCENARIO_STEPS.items():
         # --until, not --allowed-rules (which would leave the final targets unmakeable): the jobs
         # run are the step's own rules, since earlier steps made everything upstream.

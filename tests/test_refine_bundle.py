@@ -1,10 +1,9 @@
-"""A results bundle from complete refine_design folders (morphlearn.refine_bundle,
-``tools/refine_design.py bundle``): its metrics are the folders', the workflow's reader accepts it,
-bad folders and foreign out folders are refused, damage is caught, and re-simulation agrees."""
+"""A results bundle from complete refine folders (morphlearn.refine_bundle): its metrics are the
+folders', the workflow's reader accepts it, bad folders and foreign out folders are refused, damage
+is caught, and re-simulation agrees."""
 
 from __future__ import annotations
 
-import importlib.util
 import shutil
 from pathlib import Path
 
@@ -51,13 +50,6 @@ def _folder(path: Path, design: tuple = canonical_design(), *, seed: int = 0, ro
             },
         )
     return path
-
-
-def _tool() -> object:
-    spec = importlib.util.spec_from_file_location("refine_design_tool", ROOT / "tools" / "refine_design.py")
-    mod = importlib.util.module_from_spec(spec)  # type: ignore[arg-type]
-    spec.loader.exec_module(mod)  # type: ignore[union-attr]
-    return mod
 
 
 def test_bundle_holds_the_folders_metrics_and_the_workflow_reads_it(tmp_path: Path) -> None:
@@ -136,9 +128,6 @@ def test_refusals_name_the_folder_and_the_key(tmp_path: Path) -> None:
     p.write_bytes(bytes(data))
     with pytest.raises(rz.RefineError, match=r"2 of 3 rows verified; damaged: .*row_001"):
         refine_bundle.build([good, flipped], tmp_path / "out_flipped")
-    # the command line: exit 2 and the reason
-    tool = _tool()
-    assert tool.main(["bundle", str(good), str(cases["steps"][0]), "--out", str(tmp_path / "x")]) == 2  # type: ignore[attr-defined]
 
 
 def test_out_folder_foreign_content_is_never_replaced(tmp_path: Path) -> None:

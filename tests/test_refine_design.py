@@ -1,9 +1,11 @@
-"""The resumable one-design runner (morphlearn.resumable, tools/refine_design.py):
-resume skips verified rows, damaged rows are recomputed, the assembled result is evaluate_design's."""
+"""The resumable one-design runner (morphlearn.resumable) and ``morphlearn refine``:
+resume skips verified rows, damaged rows are recomputed, the assembled result is evaluate_design's;
+the committed refine folders assemble to their committed summaries."""
 
 from __future__ import annotations
 
 import json
+import subprocess
 from pathlib import Path
 
 import numpy as np
@@ -174,19 +176,35 @@ def test_mirror_flips_counts_each_pair_once() -> None:
     }
 
 
-def test_cli_killed_with_sigterm_resumes(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
-    """A real kill of the command-line run: the rows written verify, no temporary file is left,
-    and the resumed run computes exactly the others."""
+#: A killed one-design run in its own process (the runner turns SIGTERM into KeyboardInterrupt).
+_RUN_SCRIPT = """
+import sys
+from pathlib import Path
+from morphlearn.empirical import load_params
+from morphlearn import resumable as rz
+from morphlearn.physics.options import SweepOptions
+body = Path(sys.argv[2])
+job = rz.Job(l1=(0.5, 0.5), l2=(0.5, -0.5), m=7, params=load_params(body).replace(steps=400),
+             options=SweepOptions(early_stop=True))
+try:
+    rz.run(Path(sys.argv[1]), job, body_file=body, log=print)
+except KeyboardInterrupt:
+    print("interrupted", flush=True)
+    sys.exit(130)
+"""
+
+
+def test_killed_with_sigterm_resumes(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """A real kill of a run in its own process: the rows written verify, no temporary file is
+    left, and the resumed run computes exactly the others."""
     import signal
     import subprocess
     import sys
     import time
 
     out = tmp_path / "run"
-    tool = Path(__file__).resolve().parents[1] / "tools" / "refine_design.py"
-    args = ["--design-l1", "0.5", "0.5", "--design-l2", "0.5", "-0.5", "--weights", "7", "--steps", "400"]
     proc = subprocess.Popen(
-        [sys.executable, str(tool), "run", *args, "--out", str(out), "--body", str(BODY)],
+        [sys.executable, "-c", _RUN_SCRIPT, str(out), str(BODY)],
         stdout=subprocess.PIPE,
         stderr=subprocess.STDOUT,
         text=True,
@@ -208,15 +226,18 @@ def test_cli_killed_with_sigterm_resumes(tmp_path: Path, monkeypatch: pytest.Mon
     assert sorted(spy.rows) == sorted(set(range(7)) - set(kept))
 
 
-def test_export_of_a_partial_run_is_a_run_folder(tmp_path: Path) -> None:
-    import subprocess
+def _refine(*args: str) -> subprocess.CompletedProcess[str]:
+    """``morphlearn refine ARGS`` in its own process (as a user runs it)."""
     import sys
 
+    return subprocess.run([sys.executable, "-m", "morphlearn.cli", "refine", *args], capture_output=True, text=True)
+
+
+def test_export_of_a_partial_run_is_a_run_folder(tmp_path: Path) -> None:
     src, dest = tmp_path / "src", tmp_path / "bundle"
     job = _job()
     rz.run(src, job, body_file=BODY, log=_quiet, max_rows=2)
-    tool = Path(__file__).resolve().parents[1] / "tools" / "refine_design.py"
-    r = subprocess.run([sys.executable, str(tool), "export", str(src), str(dest)], capture_output=True, text=True)
+    r = _refine("export", str(src), str(dest))
     assert r.returncode == 0, r.stderr
     assert "PARTIAL" in (dest / "README.md").read_text()
     a, b = rz.assemble(src), rz.assemble(dest)
@@ -224,9 +245,19 @@ def test_export_of_a_partial_run_is_a_run_folder(tmp_path: Path) -> None:
     assert json.loads((dest / "summary.json").read_text())["rows_done"] == 2
     assert rz.run(dest, job, log=_quiet) == 1  # the bundle resumes like the run folder
     # exported in place (the run folder is the bundle): the rows stay, the README follows them
-    r = subprocess.run([sys.executable, str(tool), "export", str(dest), str(dest)], capture_output=True, text=True)
+    r = _refine("export", str(dest), str(dest))
     assert r.returncode == 0, r.stderr
     assert rz.assemble(dest).complete and "complete" in (dest / "README.md").read_text()
+    # status reads the export; a folder that is not one is refused in one line, exit 2
+    r = _refine("status", str(dest))
+    assert r.returncode == 0 and "rows 3/3 (100.0%)" in r.stdout and "complete" in r.stdout, r.stderr
+    r = _refine("status", str(tmp_path))
+    assert r.returncode == 2 and r.stderr.count("\n") == 1 and "not a refine folder" in r.stderr, r.stderr
+    # an export never overwrites a folder that is not an export
+    (tmp_path / "other").mkdir()
+    (tmp_path / "other" / "keep.txt").write_text("mine")
+    r = _refine("export", str(src), str(tmp_path / "other"))
+    assert r.returncode == 2 and (tmp_path / "other" / "keep.txt").read_text() == "mine", r.stderr
 
 
 def test_mujoco_rows_equal_mujoco_evaluate_design_bit_for_bit(tmp_path: Path) -> None:
@@ -280,27 +311,43 @@ def test_adaptive_replay_equals_an_adaptive_run(tmp_path: Path) -> None:
 
 
 def test_adaptive_cost_without_early_stop_equals_a_run_without_it(tmp_path: Path) -> None:
-    """`refine_design.py adaptive` derives the no-lever cost from the early-stopped folder (a failure
+    """`morphlearn refine adaptive` derives the no-lever cost from the early-stopped folder (a failure
     runs the whole horizon, a success stops at contact): its step count equals a real run's."""
     pytest.importorskip("mujoco")
-    import subprocess
-    import sys
-
     base = _job(m=5).__dict__
     stopped = rz.Job(**{**base, "engine": "mujoco"})
     full = rz.Job(**{**base, "engine": "mujoco", "options": SweepOptions(early_stop=False)})
     rz.run(tmp_path / "es", stopped, body_file=BODY, log=_quiet)
     rz.run(tmp_path / "full", full, body_file=BODY, log=_quiet)
-    tool = Path(__file__).resolve().parents[1] / "tools" / "refine_design.py"
-    proc = subprocess.run(
-        [sys.executable, str(tool), "adaptive", str(tmp_path / "es"), "--near", "4"],
-        capture_output=True,
-        text=True,
-        check=True,
-    )
+    proc = _refine("adaptive", str(tmp_path / "es"), "--near", "4")
+    assert proc.returncode == 0, proc.stderr
     cost = json.loads(proc.stdout)["cost"]
     real = rz.assemble(tmp_path / "full", log=_quiet).steps.astype(np.int64).sum()
     es = rz.assemble(tmp_path / "es", log=_quiet).steps.astype(np.int64).sum()
     assert cost["exhaustive_no_early_stop"]["steps"] == real
     assert cost["exhaustive_early_stop"]["steps"] == es < real  # the early stop saved steps here
     assert 0 < cost["adaptive_near_4_early_stop"]["steps"] <= es
+
+
+COMMITTED = sorted((Path(__file__).resolve().parents[1] / "results" / "refine").glob("*/manifest.json"))
+
+
+@pytest.mark.parametrize("folder", [p.parent for p in COMMITTED], ids=[p.parent.name for p in COMMITTED])
+def test_committed_folders_assemble_to_their_summaries(folder: Path) -> None:
+    """Every committed refine folder's rows verify, and ``morphlearn refine assemble`` gives its
+    committed summary.json byte for byte (the old tool wrote it with the same numbers)."""
+    r = _refine("assemble", str(folder))
+    assert r.returncode == 0, r.stderr
+    assert r.stdout == (folder / "summary.json").read_text()
+
+
+def test_survey_check_gives_the_committed_check() -> None:
+    """``morphlearn refine survey-check`` of the canonical folder against the committed pybullet
+    survey gives the committed survey_check.json: every shared cell bit-identical."""
+    root = Path(__file__).resolve().parents[1]
+    folder = root / "results" / "refine" / "canonical_121"
+    r = _refine("survey-check", str(folder), str(root / "results" / "survey" / "empirical" / "merged.zarr"))
+    assert r.returncode == 0, r.stderr
+    assert r.stdout == (folder / "survey_check.json").read_text()
+    got = json.loads(r.stdout)
+    assert got["bit_identical_there"]["status"] == got["survey_simulated_with_bit_equal_weights"] > 0

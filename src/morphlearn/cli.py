@@ -1,8 +1,8 @@
 """Command line of morphlearn: evaluate one design in any model (design), check stored results
 (verify, check-bundle, compare), re-render a committed bundle and check it (render), start the
 explorer (explore), re-render a bundle with new figure code and re-seal what changed
-(rerender-bundle, maintainers), and run the workflow after checking its config files (run).
-'morphlearn VERB --help' for each."""
+(rerender-bundle, maintainers), read, check or export a refine folder (refine), and run the
+workflow after checking its config files (run). 'morphlearn VERB --help' for each."""
 
 from __future__ import annotations
 
@@ -19,7 +19,7 @@ from typing import Any, NoReturn
 
 import numpy as np
 
-from morphlearn import __version__
+from morphlearn import __version__, refine_cli
 from morphlearn import grid as gridmod
 from morphlearn.errors import UsageError, c_stdout_to_stderr
 from morphlearn.metrics import design_metrics
@@ -406,6 +406,7 @@ def build_parser() -> argparse.ArgumentParser:
     c.add_argument("--top", type=int, default=10, metavar="K", help="also count shared top-K designs (10)")
     c.add_argument("--json", action="store_true", help="also print one JSON object")
     c.set_defaults(func=cmd_compare)
+    refine_cli.add_parser(sub)
     sub.add_parser(
         "run",
         help="snakemake with the same arguments, after checking the --configfile files (one line, exit 2)",

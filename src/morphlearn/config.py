@@ -140,7 +140,7 @@ def _check_finite(obj: Any, key: str) -> None:
 UNSAFE_PATH_CHARS = "{}"
 #: Path keys that become Snakemake input or output paths (``scenario_file`` is read by Python only);
 #: each model declares its own (``Model.path_keys``), passed to :func:`validate`.
-PATH_KEYS = ("results_dir", "bundle_dir", "survey_from.bundle")
+PATH_KEYS = ("results_dir", "bundle_dir", "survey_from.bundle", "engines.pybullet", "engines.mujoco", "engines.theory")
 
 
 def check_path(key: str, value: str | None) -> None:

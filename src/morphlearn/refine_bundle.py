@@ -84,7 +84,7 @@ def load_sources(folders: list[Path], positions: int = POSITIONS) -> list[Source
             why = f"; damaged: {damaged[0]}" if damaged else ""
             raise rz.RefineError(
                 f"{folder}: {n} of {m} rows verified{why}; allowed: complete folders only "
-                "(finish it with tools/refine_design.py run)"
+                "(finish it with morphlearn.resumable.run)"
             )
         job = rz.job_from_manifest(asm.manifest)
         try:

@@ -15,11 +15,13 @@ from __future__ import annotations
 
 import argparse
 import json
+import shutil
 import sys
 from pathlib import Path
+from typing import Any
 
 from morphlearn import bundle as bundlemod
-from morphlearn import bundle_check, provenance
+from morphlearn import bundle_check, provenance, store
 from morphlearn.bundle import MANIFEST
 
 NOTEBOOK = "notebooks/coopt.ipynb"
@@ -69,6 +71,37 @@ def seal(out_dir: str | Path) -> dict[str, str]:
     manifest["files"] = {p.relative_to(out_dir).as_posix(): provenance.sha256_file(p) for p in listed}
     mpath.write_text(json.dumps(manifest, indent=1, sort_keys=True) + "\n")
     return manifest["files"]
+
+
+def build(
+    tables: list[str | Path], figure: list[str | Path], out_dir: str | Path, configs: list[str]
+) -> dict[str, Any]:
+    """The bundle from a workflow run (rule coopt_bundle): the stage's tables and the figure's
+    files (``figure``: png, pdf, caption, in :data:`FIGURE` order) copied into ``out_dir``, then
+    ``bundle.json``: every file's SHA-256 (a README already there is kept and listed; logs are
+    not), the command (from ``configs``, the config files given), commit and library versions."""
+    out_dir = Path(out_dir)
+    out_dir.mkdir(parents=True, exist_ok=True)
+    pairs = [(Path(t), Path(t).name) for t in tables] + [
+        (Path(f), name) for f, name in zip(figure, FIGURE, strict=True)
+    ]
+    for src, name in pairs:
+        with store.atomic_path(out_dir / name) as tmp:
+            shutil.copyfile(src, tmp)
+    extra = [c for c in configs if Path(c).name != "config.yaml"]  # config.yaml is always loaded
+    # the target before --configfile, which takes every following word as a config file
+    command = f"snakemake {out_dir.as_posix()}/{MANIFEST} --cores 2 --configfile {' '.join(extra)}"
+    manifest = {
+        "files": {},
+        "made_by": {
+            "command": command,
+            "git_commit": provenance.git_commit(),
+            "libraries": provenance.library_versions(),
+        },
+    }
+    with store.atomic_path(out_dir / MANIFEST) as tmp:
+        tmp.write_text(json.dumps(manifest, indent=1, sort_keys=True) + "\n")
+    return seal(out_dir)
 
 
 def main(argv: list[str] | None = None) -> int:

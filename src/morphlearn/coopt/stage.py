@@ -4,6 +4,7 @@ and the analysis. Light imports only: the Snakefile imports this module at parse
 
 from __future__ import annotations
 
+import dataclasses
 import json
 import math
 import time
@@ -21,6 +22,38 @@ from morphlearn.settings import CooptSettings, Settings
 LANDSCAPE_DESIGNS = ("canonical", "best_M_L", "best_M_CF")
 #: What the analysis writes (run_analysis), which its sealed record names.
 ANALYSIS_OUTPUTS = ("runs.csv", "summary.csv", "landscape.csv", "summary.md", "position_map.csv")
+#: What it writes besides when the restart runs are on (coopt.restart).
+RESTART_OUTPUTS = ("restart_runs.csv", "restart_summary.csv")
+#: Run columns the tables are sorted by (the order of the rows is part of their bytes).
+RUN_ORDER = ["setup", "learner", "sigma0", "protocol", "budget", "seed"]
+
+
+def restart_settings(s: Settings) -> CooptSettings | None:
+    """The restart runs' settings (``coopt.restart``): the stage's seeds, budgets, cycles and
+    bootstrap with the restart section's learners, setups, steps and protocols; None when off."""
+    # Read from the validated mapping (defaults filled) rather than a field of CooptSettings: the
+    # stage's science() is unchanged by it, so turning restarts on re-runs none of the other jobs.
+    r = s.source["coopt"]["restart"]
+    if not r["learners"]:
+        return None
+    return dataclasses.replace(
+        s.coopt,
+        learners=tuple(r["learners"]),
+        setups=tuple(r["setups"]),
+        sigmas=tuple(r["sigmas"]),
+        protocols=tuple(r["protocols"]),
+    )
+
+
+def restart_science(s: Settings) -> dict[str, Any] | None:
+    """What the restart runs' numbers depend on (None when off)."""
+    r = restart_settings(s)
+    return None if r is None else {**science(s), "restart": r.science()}
+
+
+def bundle_dir(s: Settings) -> str | None:
+    """The stage's committed bundle folder (``coopt.bundle_dir``), or None."""
+    return s.source["coopt"]["bundle_dir"]
 
 
 def variant_names(s: CooptSettings) -> list[str]:
@@ -76,11 +109,14 @@ def run_landscape(settings: Settings, name: str, out: str | Path) -> None:
         tmp.write_text(json.dumps(rec, sort_keys=True, indent=1) + "\n")
 
 
-def run_variant(settings: Settings, setup: str, variant: str, out: str | Path) -> None:
+def run_variant(settings: Settings, setup: str, variant: str, out: str | Path, restart: bool = False) -> None:
+    """Every run of one setup and learner variant (``restart``: of the restart runs)."""
     from morphlearn.coopt import experiment
     from morphlearn.coopt.setups import paper_setups
 
-    s = settings.coopt
+    s = restart_settings(settings) if restart else settings.coopt
+    if s is None:
+        raise ValueError("coopt.restart.learners is empty: no restart runs to make")
     best = experiment.best_design(s.best_metrics)["M_L"]["coords"]
     setups = {x.name: (i, x) for i, x in enumerate(paper_setups(best))}
     i, st = setups[setup]
@@ -91,17 +127,24 @@ def run_variant(settings: Settings, setup: str, variant: str, out: str | Path) -
         runs.to_csv(tmp, index=False, float_format=CSV_FLOAT_FORMAT)
 
 
-def run_analysis(settings: Settings, landscapes: list[str], run_csvs: list[str], out_dir: str | Path) -> None:
-    """runs.csv, summary.csv, landscape.csv, summary.md and position_map.csv in ``out_dir``, and
-    their sealed record summary.provenance.json (the inputs' digests and theirs). The figure is a
-    registered figure notebook, notebooks/coopt.ipynb, that reads them."""
+def run_analysis(
+    settings: Settings,
+    landscapes: list[str],
+    run_csvs: list[str],
+    out_dir: str | Path,
+    restart_csvs: list[str] | None = None,
+) -> None:
+    """runs.csv, summary.csv, landscape.csv, summary.md and position_map.csv in ``out_dir`` (with
+    ``restart_csvs``: also restart_runs.csv and restart_summary.csv), and their sealed record
+    summary.provenance.json (the inputs' digests and theirs). The figure is a registered figure
+    notebook, notebooks/coopt.ipynb, that reads them."""
     from morphlearn.coopt import analysis, experiment
 
     s = settings.coopt
     out_dir = Path(out_dir)
     best = experiment.best_design(s.best_metrics)  # first: it checks the table's custody
     runs = pd.concat([pd.read_csv(p) for p in run_csvs], ignore_index=True)
-    runs = runs.sort_values(["setup", "learner", "sigma0", "protocol", "budget", "seed"], kind="stable")
+    runs = runs.sort_values(RUN_ORDER, kind="stable")
     summary = analysis.sort_summary(experiment.summarise(runs, s))
     rows = []
     for p in landscapes:
@@ -122,14 +165,29 @@ def run_analysis(settings: Settings, landscapes: list[str], run_csvs: list[str],
         )
     land = pd.DataFrame(rows)
     pmap = analysis.position_map(s.best_metrics)
-    tables = (("runs.csv", runs), ("summary.csv", summary), ("landscape.csv", land), ("position_map.csv", pmap))
+    tables = [("runs.csv", runs), ("summary.csv", summary), ("landscape.csv", land), ("position_map.csv", pmap)]
+    names = list(ANALYSIS_OUTPUTS)
+    sci = science(settings)
+    if restart_csvs:
+        rs = restart_settings(settings)
+        if rs is None:
+            raise ValueError("restart runs given but coopt.restart.learners is empty")
+        again = pd.concat([pd.read_csv(p) for p in restart_csvs], ignore_index=True)
+        again = again.sort_values(RUN_ORDER, kind="stable")
+        # the stage's seed, budgets and bootstrap: summarise reads only those of its settings
+        tables += [
+            ("restart_runs.csv", again),
+            ("restart_summary.csv", analysis.sort_summary(experiment.summarise(again, rs))),
+        ]
+        names += list(RESTART_OUTPUTS)
+        sci = restart_science(settings) or sci
     for name, table in tables:
         with store.atomic_path(out_dir / name) as tmp:
             table.to_csv(tmp, index=False, float_format=CSV_FLOAT_FORMAT)
     with store.atomic_path(out_dir / "summary.md") as tmp:
         tmp.write_text(analysis.summary_markdown(summary, land, s))
-    outputs = [out_dir / n for n in ANALYSIS_OUTPUTS]
+    outputs = [out_dir / n for n in names]
     # the learners simulate in the theory, the reference model: its libraries
     libs = models.get(models.REFERENCE).libraries
-    rec = provenance.record(science(settings), [s.best_metrics, *landscapes, *run_csvs], libs)
+    rec = provenance.record(sci, [s.best_metrics, *landscapes, *run_csvs, *(restart_csvs or [])], libs)
     provenance.write_sealed(provenance.sidecar_of(out_dir / "summary.csv"), rec, outputs)

@@ -68,6 +68,20 @@ FIGURES: dict[str, Figure] = {
         options=("coopt_sigma",),
         files=("coopt/summary.csv", "coopt/runs.csv", "coopt/position_map.csv"),
     ),
+    # beyond the paper: the two physics engines design by design, and where they disagree most
+    # (issue 25; config/engines.yaml; their data: rules engines_numbers, engines_disagreement)
+    "engines": Figure(reads=(), needs="engines", files=("engines.csv", "engines.json", "engines.provenance.json")),
+    "disagreement": Figure(
+        reads=(),
+        needs="engines",
+        options=("morphology",),
+        files=(
+            "disagreement.json",
+            "disagreement_success.npy",
+            "disagreement_paths.npy",
+            "disagreement.provenance.json",
+        ),
+    ),
     # beyond the paper: theory against physics per design (issue 12; config/survey.yaml)
     "survey": Figure(reads=("theory", "empirical"), needs="empirical_survey", options=("top",), survey=True),
 }

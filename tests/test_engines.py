@@ -1,36 +1,112 @@
-"""tools/mujoco_figure.py on the committed tables, and the committed MuJoCo-pybullet comparison
-(results/mujoco/survey_compare.json, quoted in docs/results.md) recomputed from those tables."""
+"""The engine comparison (config/engines.yaml; morphlearn.engine_compare; figures engines and
+disagreement): its committed outputs in results/mujoco re-made from the committed tables and
+re-rendered by their notebooks to the same bytes, and the committed MuJoCo-pybullet comparison
+(results/mujoco/survey_compare.json, quoted in docs/results.md) recomputed from the tables."""
 
 from __future__ import annotations
 
 import json
-import runpy
+import shutil
 from pathlib import Path
 
 import numpy as np
 import pandas as pd
 import pytest
 
+from morphlearn import configure, engine_compare
 from morphlearn.compare import spearman_ci
 from morphlearn.grid import DesignGrid, canonical_design
 
 ROOT = Path(__file__).resolve().parents[1]
 MJ = ROOT / "results/mujoco"
 PB = ROOT / "results/survey/empirical/metrics.csv"
+CONFIG = configure.load(ROOT / "config.yaml", [ROOT / "config/engines.yaml"])
 
 
-def test_figure_script_writes_the_committed_figure(tmp_path: Path) -> None:
+def _render(name: str, tmp_path: Path, files: tuple[str, ...], **extra: object) -> Path:
+    """Run figure ``name``'s notebook on a copy of the committed inputs ``files`` (as its rule
+    does: papermill, the project's src importable); returns the copy's figures folder."""
+    from morphlearn.bundle import render_notebook
+
+    run = tmp_path / "results" / "mujoco"
+    (run / "figures").mkdir(parents=True)
+    for f in files:
+        shutil.copyfile(MJ / f, run / f)
+    rel = Path("results/mujoco")
+    params = {
+        "results_dir": str(rel),
+        "style": str(ROOT / "notebooks/style.mplstyle"),
+        **{
+            k: str(rel / "figures" / f"{name}.{ext}")
+            for k, ext in (("png", "png"), ("pdf", "pdf"), ("caption", "caption.md"))
+        },
+        **extra,
+    }
+    render_notebook(ROOT, f"notebooks/{name}.ipynb", tmp_path, rel / "logs" / f"{name}.ipynb", params)
+    return run / "figures"
+
+
+def test_engine_numbers_are_the_committed_ones(tmp_path: Path) -> None:
+    """Rule engines_numbers' work on the committed tables gives the committed engines.csv and
+    engines.json byte for byte."""
+    s = engine_compare.EnginesSettings.of(CONFIG)
+    assert s.enabled and CONFIG.results_dir == "results/mujoco"
+    stats = engine_compare.write_numbers(s, tmp_path / "engines.csv", tmp_path / "engines.json")
+    assert (tmp_path / "engines.csv").read_bytes() == (MJ / "engines.csv").read_bytes()
+    assert (tmp_path / "engines.json").read_bytes() == (MJ / "engines.json").read_bytes()
+    # custody: the sealed record names both files; an edit to either is caught before a read
+    from morphlearn import provenance
+
+    provenance.check_derived(tmp_path / "engines.csv")
+    (tmp_path / "engines.json").write_text((tmp_path / "engines.json").read_text().replace("625", "626", 1))
+    with pytest.raises(provenance.CustodyError, match=r"engines\.json"):
+        provenance.check_derived(tmp_path / "engines.csv")
+    # the table reads back to the same floats (the figure draws it): the shortest exact repr
+    both = pd.read_csv(tmp_path / "engines.csv")
+    assert len(both) == 625 and stats["canonical_design"] == DesignGrid(5).index_of(*canonical_design())
+    assert both.M_L_mujoco.mul(engine_compare.CELLS).round(9).mod(1).eq(0).all()  # integers of 121
+
+
+@pytest.mark.slow
+def test_engines_figure_renders_the_committed_bytes(tmp_path: Path) -> None:
     import matplotlib.image as mpimg
 
-    runpy.run_path(str(ROOT / "tools/mujoco_figure.py"), run_name="not_main")["main"](["--out", str(tmp_path)])
-    img = mpimg.imread(tmp_path / "engines.png")
+    out = _render("engines", tmp_path, ("engines.csv", "engines.json", "engines.provenance.json"))
+    img = mpimg.imread(out / "engines.png")
     assert img.shape[0] > 500 and img.shape[1] > 500
     dark = (img[..., :3].mean(axis=-1) < 0.5).mean()
     assert 0.005 < dark < 0.5, dark  # drawn on, not blank, not black
-    # deterministic and up to date: the same bytes and numbers as the committed files
-    assert (tmp_path / "engines.png").read_bytes() == (MJ / "engines.png").read_bytes()
-    assert (tmp_path / "engines.pdf").read_bytes() == (MJ / "engines.pdf").read_bytes()
-    assert json.loads((tmp_path / "engines.json").read_text()) == json.loads((MJ / "engines.json").read_text())
+    for ext in ("png", "pdf", "caption.md"):
+        assert (out / f"engines.{ext}").read_bytes() == (MJ / "figures" / f"engines.{ext}").read_bytes(), ext
+
+
+@pytest.mark.slow
+def test_disagreement_figure_renders_the_committed_bytes(tmp_path: Path) -> None:
+    body = CONFIG.models["empirical"].params.to_dict()
+    files = ("disagreement.json", "disagreement_success.npy", "disagreement_paths.npy", "disagreement.provenance.json")
+    out = _render("disagreement", tmp_path, files, morphology=body)
+    for ext in ("png", "pdf", "caption.md"):
+        got, want = (out / f"disagreement.{ext}").read_bytes(), (MJ / "figures" / f"disagreement.{ext}").read_bytes()
+        assert got == want, ext
+
+
+def test_committed_disagreement_agrees_with_the_tables() -> None:
+    """The committed re-simulation (rule engines_disagreement) is of the design the tables pick,
+    with their generalist counts, and its controller is a generalist in exactly one engine."""
+    info = json.loads((MJ / "disagreement.json").read_text())
+    s = engine_compare.EnginesSettings.of(CONFIG)
+    pb, mj = engine_compare.read_table(s.pybullet), engine_compare.read_table(s.mujoco)
+    assert info["design"] == engine_compare.pick_design(pb, mj)
+    succ = np.load(MJ / "disagreement_success.npy")
+    assert succ.dtype == bool and succ.shape == (2, 4, 11, 11)
+    gen = succ.all(axis=1)
+    for k, (e, tab) in enumerate((("pybullet", pb), ("mujoco", mj))):
+        want = int(tab.set_index("design").loc[info["design"], "generalists"])
+        assert int(gen[k].sum()) == info["generalists"][e] == want
+    i, j = (round((w + 1) * 5) for w in info["controller"])
+    assert gen[0, i, j] != gen[1, i, j]
+    paths = engine_compare.split_paths(info, np.load(MJ / "disagreement_paths.npy"))
+    assert [len(p) - 1 for p in paths["mujoco"]] == info["steps"]["mujoco"]
 
 
 def test_committed_comparison_equals_what_compare_computes() -> None:
@@ -66,7 +142,7 @@ def test_committed_comparison_equals_what_compare_computes() -> None:
 
 
 def test_disagreement_picks_the_largest_difference_then_the_most_generalists() -> None:
-    pick = runpy.run_path(str(ROOT / "tools/mujoco_disagreement.py"), run_name="not_main")["pick_design"]
+    pick = engine_compare.pick_design
     pb = pd.DataFrame({"design": [0, 1, 2, 3, 4], "generalists": [5, 1, 6, 6, 2]})
     mj = pd.DataFrame({"design": [0, 1, 2, 3, 4], "generalists": [4, 4, 3, 3, 2]})
     assert pick(pb, mj) == 2  # |diff| 3 for designs 1, 2, 3; 2 and 3 have 9 generalists; 2 first

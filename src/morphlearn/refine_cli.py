@@ -1,0 +1,401 @@
+"""``morphlearn refine ACTION FOLDER``: read, check and export a refine folder, one physics design on
+an exhaustive weight grid, stored row by row (:mod:`morphlearn.resumable`: the committed
+``results/refine/*`` folders are such folders).
+
+Actions: ``status`` (progress, cost, metrics so far), ``assemble`` (every row verified, the
+design's metrics as JSON; ``--write`` adds ``result.npz`` and ``summary.json``), ``export`` (the
+verified rows, manifest and logs into a small folder for git, with a README), ``adaptive`` (the
+adaptive weight grid replayed on a complete folder: the successes it would miss and the levers'
+cost), ``survey-check`` (the folder against a survey's merged store on the weights both share),
+``seed`` (the folder's episodes as its design's partial file in a workflow config's design cache,
+so a workflow run simulates only the rest).
+
+Refine runs themselves are workflow runs (``config/refine_pybullet.yaml``,
+``config/refine_mujoco.yaml``, ``config/ode_paper.yaml``); the folders this reads were made by the
+one-design runner :func:`morphlearn.resumable.run`.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import shutil
+import sys
+from datetime import UTC, datetime
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+#: Default near thresholds of the adaptive replay (contact distances).
+DEFAULT_NEAR = (4.0, 1.5)
+
+
+def _log(msg: str) -> None:
+    print(f"[{datetime.now(UTC).strftime('%H:%M:%S')}] {msg}", file=sys.stderr, flush=True)
+
+
+def _folder(path: Path) -> Path:
+    from morphlearn import resumable as rz
+
+    if not path.is_dir():
+        raise ValueError(f"{path}: no such folder (a refine folder holds manifest.json and rows/)")
+    if not rz.manifest_path(path).is_file():
+        raise ValueError(f"{path}: not a refine folder (no {rz.manifest_path(path).name})")
+    return path
+
+
+def status(a: argparse.Namespace) -> int:
+    from morphlearn import resumable as rz
+
+    asm = rz.assemble(_folder(a.folder), log=_log)
+    s, c = rz.summary(asm), rz.cost(a.folder)
+    ident = asm.manifest["identity"]
+    print(
+        f"{a.folder}: design l1={ident['design']['l1']} l2={ident['design']['l2']}, "
+        f"{ident['weights']} x {ident['weights']} weights, levers {ident['levers'] or 'none'}"
+    )
+    print(
+        f"  rows {s['rows_done']}/{s['rows']} ({s['fraction_done']:.1%}), {s['episodes']} episodes, "
+        f"{'complete' if s['complete'] else 'PARTIAL'}"
+    )
+    if c["rows_logged"]:
+        left = (s["rows"] - s["rows_done"]) * 4 * s["rows"] / c["episodes_per_wall_s"]
+        print(
+            f"  cost: {c['episodes_per_wall_s']:.2f} episodes/wall-s, {c['episodes_per_cpu_s']:.2f} episodes/CPU-s "
+            f"over {c['rows_logged']} rows logged; ~{left / 3600:.2f} h left at that rate"
+        )
+    dm = s["metrics_over_rows_done"]
+    print(
+        f"  over the rows done: generalists {dm['generalists']} of {s['episodes'] // 4} cells, "
+        f"at least one {dm['at_least_one']}, per env {dm['per_env']}, M_L {dm['M_L']:.6g}, "
+        f"M_CF {dm['M_CF']:.6g}, flagged {dm['flagged']}; {s['steps_per_episode']:.0f} steps/episode"
+    )
+    if "mirror" in s:
+        mi = s["mirror"]
+        print(
+            f"  mirror (self-mirror design): {mi['pairs_flipped']} of {mi['pairs_compared']} cell pairs "
+            "differ in success"
+        )
+    return 0
+
+
+def _summary(folder: Path) -> tuple[Any, dict[str, Any]]:
+    """The assembled folder (every row verified) and its summary as ``assemble`` prints it."""
+    from morphlearn import resumable as rz
+
+    asm = rz.assemble(_folder(folder), log=_log)
+    return asm, rz.summary(asm) | {"cost": rz.cost(folder), "run_key": asm.manifest["run_key"]}
+
+
+def assemble(a: argparse.Namespace) -> int:
+    from morphlearn import resumable as rz
+
+    asm, s = _summary(a.folder)
+    print(json.dumps(s, indent=1, sort_keys=True))
+    if a.write:
+        d = asm.result
+        np.savez_compressed(
+            a.folder / "result.npz",
+            first_time=d.first_time,
+            min_dist=d.min_dist,
+            status=d.status,
+            steps=asm.steps,
+            rows_done=asm.rows_done,
+            weights=rz.job_from_manifest(asm.manifest).weights,
+        )
+        (a.folder / "summary.json").write_text(json.dumps(s, indent=1, sort_keys=True) + "\n")
+        state = "complete" if asm.complete else "PARTIAL"
+        print(f"wrote {a.folder / 'result.npz'} and {a.folder / 'summary.json'} ({state})", file=sys.stderr)
+    return 0
+
+
+README = """# {title}: one {engine} design, exhaustive {m} x {m} weights ({state})
+
+A refine folder (morphlearn.resumable): every (env, w1, w2) episode of design
+l1 = {l1}, l2 = {l2} with the body `{body}` (sha256 {body_sha}...), levers {levers}.
+Exported by `morphlearn refine export {src} <this folder>` on {now}.
+
+**{state}**: {rows_done} of {m} w1 rows ({frac:.1%}), {episodes} of {total} episodes. Rows are
+computed coarse to fine (the 11-point weights first, then farthest-first), so the rows present
+are a spread-out sample of w1.
+
+- Read: `morphlearn refine status <this folder>` or `morphlearn refine assemble <this folder>`;
+  or `numpy.load("rows/row_XXX.npz")`: arrays `first_time`, `min_dist` (float32), `status` (int8),
+  `steps` (int16), shape (4 envs [45, 135, 225, 315 deg], {m} w2), for w1 = weights[XXX]
+  (`manifest.json` `weight_values`); `meta` holds the run key and the arrays' SHA-256.
+- Code: created at commit {created_commit}; each row's commit is in `progress.jsonl`, each start
+  in `runs.jsonl`. Run key {run_key}.
+
+## Numbers over the rows done
+
+- Generalists (success in all 4 environments): **{gen}** of {cells} cells; at least one
+  environment {any1}; per environment {per_env}; M_L {ml:.6g}, M_CF {mcf:.6g}; flagged {flagged}.
+{mirror}- Cost: {eps_wall:.2f} episodes per wall-second, {eps_cpu:.2f} episodes per CPU-second,
+  {spe:.0f} physics steps per episode (horizon {steps}).
+
+`summary.json` holds these numbers as `morphlearn refine assemble` prints them.
+"""
+
+
+def export(a: argparse.Namespace) -> int:
+    from morphlearn import resumable as rz
+
+    src, dest = a.folder, a.dest
+    asm, s = _summary(src)
+    job = rz.job_from_manifest(asm.manifest)
+    # exported in place (the folder is its own export): only the README and summary are written,
+    # never the rows, which removing and copying onto themselves would destroy
+    if dest.resolve() != src.resolve():
+        if dest.exists() and not (dest / "rows").is_dir() and any(dest.iterdir()):
+            raise ValueError(f"{dest}: exists and is not an export (no rows/); allowed: absent, empty or an export")
+        if (dest / "rows").exists():
+            shutil.rmtree(dest / "rows")
+        (dest / "rows").mkdir(parents=True)
+        for i in np.flatnonzero(asm.rows_done):
+            shutil.copyfile(rz.row_path(src, int(i)), rz.row_path(dest, int(i)))
+        for name in ("manifest.json", "progress.jsonl", "runs.jsonl"):
+            if (src / name).exists():
+                shutil.copyfile(src / name, dest / name)
+    (dest / "summary.json").write_text(json.dumps(s, indent=1, sort_keys=True) + "\n")
+    man, dm, c = asm.manifest, s["metrics_over_rows_done"], s["cost"]
+    mi = s.get("mirror")
+    mirror = (
+        f"- Mirror flips (the design is its own mirror image; cell (env, i, j) against (mirror env, j, i), "
+        f"both rows done): **{mi['pairs_flipped']} of {mi['pairs_compared']}** cell pairs differ in success.\n"
+        if mi
+        else ""
+    )
+    state = "complete" if asm.complete else "PARTIAL"
+    (dest / "README.md").write_text(
+        README.format(
+            title="canonical design" if (job.l1, job.l2) == ((0.5, 0.5), (0.5, -0.5)) else "design",
+            engine=job.engine,
+            m=job.m,
+            state=state,
+            l1=list(job.l1),
+            l2=list(job.l2),
+            body=man["body_file"],
+            body_sha=str(man["body_file_sha256"])[:12],
+            levers=man["identity"]["levers"] or "none (every cell simulated to contact or horizon)",
+            src=src,
+            now=datetime.now(UTC).strftime("%Y-%m-%d %H:%M UTC"),
+            rows_done=s["rows_done"],
+            frac=s["fraction_done"],
+            episodes=s["episodes"],
+            total=4 * job.m**2,
+            created_commit=man["created_commit"],
+            run_key=man["run_key"],
+            gen=dm["generalists"],
+            cells=s["episodes"] // 4,
+            any1=dm["at_least_one"],
+            per_env=dm["per_env"],
+            ml=dm["M_L"],
+            mcf=dm["M_CF"],
+            flagged=dm["flagged"],
+            mirror=mirror,
+            eps_wall=c["episodes_per_wall_s"],
+            eps_cpu=c["episodes_per_cpu_s"],
+            spe=s["steps_per_episode"],
+            steps=job.params.steps,
+        )
+    )
+    size = sum(p.stat().st_size for p in dest.rglob("*") if p.is_file())
+    print(f"exported {s['rows_done']}/{job.m} rows ({state}) to {dest}: {size / 1e6:.2f} MB", file=sys.stderr)
+    return 0
+
+
+def adaptive(a: argparse.Namespace) -> int:
+    """The adaptive weight grid's misses at each ``--near``, replayed on a complete folder."""
+    from morphlearn import metrics
+    from morphlearn import resumable as rz
+    from morphlearn.physics.refine import misses, simulated_mask
+    from morphlearn.results import STATUS_OK
+
+    if not all(v > 0 and np.isfinite(v) for v in a.near):
+        raise ValueError(f"--near {a.near}: every threshold must be a finite number > 0 (contact distances)")
+    asm = rz.assemble(_folder(a.folder), log=_log)
+    if not asm.complete:
+        raise ValueError(f"{a.folder}: {int(asm.rows_done.sum())} of {len(asm.rows_done)} rows; the replay needs all")
+    job = rz.job_from_manifest(asm.manifest)
+    r = asm.result
+    succ = metrics.success(r.first_time, r.min_dist, rz.thresholds(job.params))
+    out = [misses(succ, r.min_dist, job.params.contact_distance, near) for near in a.near]
+    # The levers' cost from the physics steps each cell took (the rows record them) at the
+    # folder's measured CPU-s per step: with early stop off a failure runs the whole horizon and a
+    # success stops at contact as it does now; the adaptive grid runs only the cells it simulates.
+    steps = asm.steps.astype(np.int64)
+    horizon = round(job.params.horizon / job.params.dt)
+    ended_early = succ | (r.status != STATUS_OK)
+    no_levers = int(np.where(ended_early, steps, horizon).sum())
+    summary_file = a.folder / "summary.json"
+    cost = json.loads(summary_file.read_text())["cost"] if summary_file.exists() else {}
+    per_step = cost.get("cpu_s", float("nan")) / int(steps.sum())
+    levers = {
+        "cpu_s_per_step": per_step,
+        "exhaustive_no_early_stop": {"steps": no_levers, "cpu_s": no_levers * per_step},
+        "exhaustive_early_stop": {"steps": int(steps.sum()), "cpu_s": int(steps.sum()) * per_step},
+    }
+    for near in a.near:
+        sim = simulated_mask(succ, r.min_dist, job.params.contact_distance, near)
+        n = int(steps[sim].sum())
+        levers[f"adaptive_near_{near:g}_early_stop"] = {"steps": n, "cpu_s": n * per_step}
+    report = {"folder": str(a.folder), "engine": job.engine, "weights": job.m, "replays": out, "cost": levers}
+    print(json.dumps(report, indent=1))
+    return 0
+
+
+def survey_check(folder: Path, merged: str | Path) -> dict[str, object]:
+    """A refine folder against a survey's merged store on the weights both share: every cell the
+    survey simulated (status not ``inferred``) on a weight of both grids, in a row the folder has,
+    must agree bit for bit when both used the same body and exact levers (early stop is exact; the
+    adaptive grid only skips cells); the survey's inferred cells, where its adaptive grid could
+    miss successes, are counted apart."""
+    from morphlearn import metrics, store
+    from morphlearn import resumable as rz
+    from morphlearn.results import STATUS_INFERRED
+
+    asm = rz.assemble(_folder(folder))
+    job = rz.job_from_manifest(asm.manifest)
+    ds = store.open_merged(merged)
+    if store.science_of(ds).get("params") != job.params.to_dict():
+        raise ValueError(f"{merged}: simulated with other body parameters than {folder}")
+    cols = ["l1x", "l1y", "l2x", "l2y"]
+    want = (*job.l1, *job.l2)
+    hit = np.flatnonzero(np.all([ds[c].values == v for c, v in zip(cols, want, strict=True)], axis=0))
+    if hit.size != 1:
+        raise ValueError(f"{merged}: holds no design l1={job.l1} l2={job.l2}")
+    sv = ds["w1"].values if "w1" in ds else ds["weight"].values
+    fine = job.weights
+    # linspace(-1, 1, 11) is not bit-exact every 12th of linspace(-1, 1, 121) (+-0.4 differ by an
+    # ulp): matched within 1e-12, and bit-identical outcomes are expected only where both weights
+    # of a cell are exactly equal.
+    near = [np.flatnonzero(np.isclose(fine, w, rtol=0, atol=1e-12)) for w in sv]
+    if not all(n.size for n in near):
+        raise ValueError(f"{merged}: its weights are not a subset of the folder's {job.m}-point grid")
+    idx = [int(n[0]) for n in near]
+    exact_w = fine[idx] == sv
+    s = store.read_design(ds, int(hit[0]))
+    ix = np.ix_(range(4), idx, idx)
+    rows_ok = asm.rows_done[idx]
+    keys = ("first_time", "min_dist", "status")
+    mine = {k: getattr(asm.result, k)[ix][:, rows_ok] for k in keys}
+    theirs = {k: s[k][:, rows_ok] for k in keys}
+    exact = np.broadcast_to((exact_w[rows_ok][:, None] & exact_w[None, :])[None], theirs["status"].shape)
+    sim = theirs["status"] != STATUS_INFERRED
+    both = sim & exact
+    th = rz.thresholds(job.params)
+    succ_m = metrics.success(mine["first_time"], mine["min_dist"], th)
+    succ_t = metrics.success(theirs["first_time"], theirs["min_dist"], th)
+
+    def same(k: str) -> int:  # bit for bit: compare the stored bytes, so NaN equals NaN
+        view = np.uint8 if k == "status" else np.uint32
+        return int((mine[k][both].view(view) == theirs[k][both].view(view)).sum())
+
+    return {
+        "survey_rows_in_folder": int(rows_ok.sum()),
+        "survey_rows": len(idx),
+        "cells_compared": int(rows_ok.sum()) * len(idx) * 4,
+        "survey_simulated": int(sim.sum()),
+        "survey_simulated_with_bit_equal_weights": int(both.sum()),
+        "bit_identical_there": {k: same(k) for k in keys},
+        "success_disagreements_where_survey_simulated": int((succ_m != succ_t)[sim].sum()),
+        "success_disagreements_there_weights_1ulp_apart": int((succ_m != succ_t)[sim & ~exact].sum()),
+        "successes_folder": int(succ_m.sum()),
+        "successes_survey": int(succ_t.sum()),
+        "successes_survey_missed_inferred": int((succ_m & ~sim).sum()),
+        "generalists_folder_on_subgrid": int(succ_m.all(axis=0).sum()),
+        "generalists_survey_on_these_rows": int(succ_t.all(axis=0).sum()),
+        "survey_generalists_whole_11x11": int(metrics.success(s["first_time"], s["min_dist"], th).all(axis=0).sum()),
+        "complete_on_subgrid": bool(rows_ok.all()),
+    }
+
+
+def _survey_check(a: argparse.Namespace) -> int:
+    print(json.dumps(survey_check(a.folder, a.merged), indent=1))
+    return 0
+
+
+def seed(a: argparse.Namespace) -> int:
+    """The folder's episodes as the partial file of its design in a workflow config's design cache."""
+    from morphlearn import configure
+    from morphlearn.seed import seed as seed_cache
+
+    s = configure.load(a.base, a.configfile)
+    r = seed_cache(_folder(a.folder), s)
+    if r.finished:
+        print(f"design {r.design} is already finished in the design cache; nothing written", file=sys.stderr)
+        return 0
+    print(
+        f"design {r.design}: {r.rows} complete rows in {a.folder}; {r.seeded} episodes seeded, {r.kept} already "
+        f"in the partial file, {r.near_threshold} left to simulate (float32 closest approach at the "
+        f"near threshold) -> {r.path}",
+        file=sys.stderr,
+    )
+    return 0
+
+
+def run(a: argparse.Namespace) -> int:
+    """The action; a refine folder that fails its checks is a usage error (one line, exit 2)."""
+    from morphlearn import resumable as rz
+
+    try:
+        return int(a.refine_func(a))
+    except (rz.RefineError, rz.ChunkError) as e:
+        raise ValueError(str(e)) from None
+
+
+def add_parser(sub: Any) -> argparse.ArgumentParser:
+    """The ``refine`` verb and its actions, on the ``morphlearn`` parser's subparsers ``sub``."""
+    p = sub.add_parser(
+        "refine",
+        help="read, check or export a refine folder (one design, exhaustive weights): "
+        "status, assemble, export, adaptive, survey-check, seed",
+        description=__doc__,
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
+    acts = p.add_subparsers(dest="action", required=True, metavar="ACTION")
+    folder_help = "a refine folder (manifest.json, rows/; e.g. results/refine/canonical_121)"
+
+    s = acts.add_parser("status", help="progress, cost and metrics of the rows done")
+    s.add_argument("folder", type=Path, metavar="FOLDER", help=folder_help)
+    s.set_defaults(refine_func=status)
+
+    m = acts.add_parser("assemble", help="verify every row; the design's result and metrics as JSON")
+    m.add_argument("folder", type=Path, metavar="FOLDER", help=folder_help)
+    m.add_argument("--write", action="store_true", help="also write result.npz and summary.json in the folder")
+    m.set_defaults(refine_func=assemble)
+
+    e = acts.add_parser("export", help="copy the verified rows, manifest and logs to a folder for git, with a README")
+    e.add_argument("folder", type=Path, metavar="FOLDER", help=folder_help)
+    e.add_argument("dest", type=Path, metavar="DEST", help="the export folder (absent, empty, an export, or FOLDER)")
+    e.set_defaults(refine_func=export)
+
+    ad = acts.add_parser("adaptive", help="replay the adaptive weight grid on a complete folder: what it misses")
+    ad.add_argument("folder", type=Path, metavar="FOLDER", help=folder_help + "; complete")
+    ad.add_argument(
+        "--near",
+        type=float,
+        nargs="+",
+        default=list(DEFAULT_NEAR),
+        metavar="K",
+        help="near thresholds in contact distances (default: %(default)s)",
+    )
+    ad.set_defaults(refine_func=adaptive)
+
+    sc = acts.add_parser("survey-check", help="the folder against a survey's merged store on the shared weights")
+    sc.add_argument("folder", type=Path, metavar="FOLDER", help=folder_help)
+    sc.add_argument(
+        "merged", metavar="MERGED", help="a survey's merged.zarr (e.g. results/survey/empirical/merged.zarr)"
+    )
+    sc.set_defaults(refine_func=_survey_check)
+
+    sd = acts.add_parser("seed", help="the folder's episodes as its design's partial file in a workflow's design cache")
+    sd.add_argument("folder", type=Path, metavar="FOLDER", help=folder_help)
+    sd.add_argument(
+        "--configfile", type=Path, nargs="+", required=True, help="the workflow run's config file(s), as given to it"
+    )
+    sd.add_argument("--base", type=Path, default=Path("config.yaml"), help="the base config (default: config.yaml)")
+    sd.set_defaults(refine_func=seed)
+    p.set_defaults(func=run)
+    return p
