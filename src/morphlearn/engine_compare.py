@@ -20,8 +20,12 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
+import numpy as np
+
+from morphlearn.grid import ENV_ANGLES_DEG, DesignGrid, canonical_design, weights
+from morphlearn.physics.options import SweepOptions
+
 if TYPE_CHECKING:
-    import numpy as np
     import pandas as pd
 
     from morphlearn.physics.params import EmpiricalParams
@@ -87,7 +91,6 @@ def tables(pybullet: pd.DataFrame, mujoco: pd.DataFrame, theory: pd.DataFrame) -
 
 
 def canonical_index() -> int:
-    from morphlearn.grid import DesignGrid, canonical_design
 
     return int(DesignGrid(POSITIONS).index_of(*canonical_design()))
 
@@ -96,7 +99,6 @@ def numbers(both: pd.DataFrame) -> dict[str, Any]:
     """Every statistic the engines figure draws (docs/results.md quotes them): Spearman's rho with
     its bootstrap 95 % interval (seeded) between the engines (all designs, and those non-zero in
     either) and of each engine's M_L with the theory's; each model's best design by M_L."""
-    import numpy as np
 
     from morphlearn.compare import spearman_ci
 
@@ -167,15 +169,12 @@ def disagreement(s: EnginesSettings, params: EmpiricalParams) -> tuple[dict[str,
     successes (bool, engine x env x w1 x w2, engines in :data:`ENGINES` order) and the paths
     (float64 (N, 2): pybullet's four environments, then MuJoCo's, each ``steps + 1`` points).
     """
-    import numpy as np
 
     from morphlearn.empirical.episode import EpisodeRunner
     from morphlearn.empirical.episode import evaluate_design as pybullet_design
-    from morphlearn.grid import ENV_ANGLES_DEG, DesignGrid, weights
     from morphlearn.metrics import design_metrics
     from morphlearn.mujoco.episode import BatchRunner
     from morphlearn.mujoco.episode import evaluate_design as mujoco_design
-    from morphlearn.physics.options import SweepOptions
 
     pb_tab, mj_tab = read_table(s.pybullet), read_table(s.mujoco)
     d = pick_design(pb_tab, mj_tab)
@@ -241,7 +240,6 @@ def write_disagreement(
     """:func:`disagreement`'s record as JSON and its arrays as ``.npy`` (no timestamp inside, unlike
     ``.npz``: the same simulation gives the same bytes); custody: their sealed record
     ``disagreement.provenance.json`` (the body, the tables' digests and theirs)."""
-    import numpy as np
 
     from morphlearn import provenance, store
 
@@ -258,7 +256,6 @@ def write_disagreement(
 
 def split_paths(info: dict[str, Any], paths: np.ndarray) -> dict[str, list[np.ndarray]]:
     """The per-engine, per-environment centre paths of :func:`disagreement`'s concatenated array."""
-    import numpy as np
 
     out: dict[str, list[np.ndarray]] = {}
     start = 0
