@@ -135,6 +135,7 @@ def test_refined_rows_say_how_the_theory_best_designs_do_in_physics() -> None:
     from morphlearn import grid, metrics
     from morphlearn.figures import data as fd
     from morphlearn.figures.reproduction.stages.refined import refined_rows
+    from morphlearn.figures.reproduction.table import reproduction_table
 
     theory = fd.load_results(ROOT / "results/paper", "theory", None)
     emp = fd.load_results(ROOT / "results/paper", "empirical", None)
@@ -142,9 +143,15 @@ def test_refined_rows_say_how_the_theory_best_designs_do_in_physics() -> None:
     rows = {r["key"]: r for r in refined_rows(theory, mj, "mujoco", "cfg")}
     canon = metrics.find_row(emp.table, grid.canonical_design())
     m2 = emp.n_controllers
-    assert rows["mujoco_canonical_M_L"]["ours"].startswith(f"{canon.M_L:.4g} ({int(canon.generalists)} of {m2}")
-    assert rows["mujoco_canonical_M_L"]["quantity"] == "MuJoCo, canonical design: M_L"
-    assert rows["mujoco_best_on_both"]["paper"] == "yes (pybullet)"
+    # the further engine's answers to the paper's physics claims are rows of the claims table, each
+    # with the paper's own value (the paper's physics ran in ODE, not pybullet) and the engine named
+    table = reproduction_table(theory, emp, None, "cfg", 1.0, engines={"mujoco": mj}).set_index("key")
+    assert table.at["mujoco_canonical_M_L", "ours"] == f"{canon.M_L:.4g}"
+    assert table.at["mujoco_canonical_generalists", "ours"].startswith(f"{int(canon.generalists)} of {m2}")
+    assert table.at["mujoco_canonical_M_L", "quantity"] == "canonical design: M_L"
+    assert table.at["mujoco_canonical_M_L", "model"] == "MuJoCo (another engine)"
+    assert table.at["mujoco_best_on_both", "paper"] == "yes"
+    assert set(rows) == {f"mujoco_theory_best_{by}_in_physics" for by in metrics.METRICS}
     for by in metrics.METRICS:
         top = theory.best(by)
         design = fd.row_design(top)

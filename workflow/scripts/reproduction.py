@@ -1,5 +1,6 @@
 """Rule reproduction: the paper-vs-ours table (CSV, Markdown, HTML) and the persistence counts."""
 
+import os
 import sys
 from pathlib import Path
 
@@ -23,7 +24,9 @@ table, persistence = build.run(
     p.survey,
     stored_persistence=stored[0] if stored else None,
 )
-writers.write(table, out.csv, out.md, out.html)
+# the reasons' page, relative to the table (a bundle re-rendered in place links the same file)
+docs = os.path.relpath("docs/results.md", s.results_dir)
+writers.write(table, out.csv, out.md, out.html, p.config_name, docs)
 pers_path = stored[0] if stored else out.persistence
 if not stored:
     persistence.to_csv(pers_path, index=False)

@@ -6,6 +6,7 @@ from __future__ import annotations
 from morphlearn import grid as gridmod
 from morphlearn.figures import data as fd
 from morphlearn.figures.caption import PAPER_WEIGHTS
+from morphlearn.figures.reproduction.claims import PAPER_ENGINE
 
 
 def is_survey(theory: fd.ModelResults | None, empirical: fd.ModelResults | None) -> bool:
@@ -28,3 +29,13 @@ def physics_models() -> list[str]:
 def at_paper_weights(res: fd.ModelResults | None) -> bool:
     """Physics results on the paper's 121 x 121 weight grid (the designs refined, issue 26)."""
     return res is not None and len(res.weights) == PAPER_WEIGHTS
+
+
+def model_label(name: str) -> str:
+    """The model column: the theory, or a physics engine and whether it is the paper's."""
+    if name == "theory":
+        return "theory"
+    if name == "physics":
+        return "physics"
+    label = fd.engine_label(name)
+    return f"{label} (the paper's engine)" if name == PAPER_ENGINE else f"{label} (another engine)"

@@ -4,12 +4,15 @@ rows, and whether it ranks the designs as the reference engine does."""
 from __future__ import annotations
 
 from morphlearn.figures import data as fd
-from morphlearn.figures.caption import science_summary
 from morphlearn.figures.reproduction.claims import BEYOND_ENGINES
 from morphlearn.figures.reproduction.inputs import TableInputs
 from morphlearn.figures.reproduction.selection import at_paper_weights, is_survey, physics_models
 from morphlearn.figures.reproduction.stages.refined import refined_rows
 from morphlearn.figures.reproduction.stages.survey import survey_rows
+from morphlearn.figures.reproduction.text import config_note
+
+#: A rank correlation needs at least this many designs held by both engines.
+MIN_DESIGNS = 3
 
 
 def engine_rows(
@@ -24,11 +27,26 @@ def engine_rows(
     a, b = names
     ref = fd.engine_label(a)
     items = []
+    ranked = len(both) >= MIN_DESIGNS
+    if not ranked:  # one row says so, not four "undefined" rows
+        items.append(
+            (
+                "rho_not_computed",
+                f"{ref} vs {label}: Spearman rho of M_L and M_CF over designs",
+                f"not computed: the two hold {len(both)} designs in common, and a rank correlation needs "
+                f"at least {MIN_DESIGNS}",
+            )
+        )
     for m in metrics.METRICS:
+        top = int(((both[f"rank_{m}_{a}"] <= 10) & (both[f"rank_{m}_{b}"] <= 10)).sum())
+        # of at most the designs both hold (a few refined designs: not "of 10")
+        top_row = (f"top10_{m}", f"{ref} vs {label}: designs in both top 10 by {m}", f"{top} of {min(10, len(both))}")
+        if not ranked:
+            items.append(top_row)
+            continue
         ag = compare.spearman_ci(both[f"{m}_{a}"], both[f"{m}_{b}"], m)
         nz = both[(both[f"{m}_{a}"] > 0) | (both[f"{m}_{b}"] > 0)]
         ag_nz = compare.spearman_ci(nz[f"{m}_{a}"], nz[f"{m}_{b}"], m)  # fewer than 3: "undefined"
-        top = int(((both[f"rank_{m}_{a}"] <= 10) & (both[f"rank_{m}_{b}"] <= 10)).sum())
         items += [
             (f"rho_{m}", f"{ref} vs {label}: Spearman rho of {m} over designs", ag.text()),
             (
@@ -36,18 +54,17 @@ def engine_rows(
                 f"{ref} vs {label}: Spearman rho of {m}, designs non-zero in either",
                 ag_nz.text(),
             ),
-            # of at most the designs both hold (a few refined designs: not "of 10")
-            (f"top10_{m}", f"{ref} vs {label}: designs in both top 10 by {m}", f"{top} of {min(10, len(both))}"),
+            top_row,
         ]
-    note = f"{b}: {science_summary(other)}"
+    config = config_note(other, config_name)  # the engine's configuration: one note with its claims'
     return [
         {
             "key": f"engines_{b}_{k}",
             "quantity": q,
             "paper": BEYOND_ENGINES,
             "ours": o,
-            "config": config_name,
-            "note": note,
+            "config": config,
+            "note": "",
         }
         for k, q, o in items
     ]

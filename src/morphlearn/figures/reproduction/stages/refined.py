@@ -1,12 +1,12 @@
-"""Rows of physics results that are not a survey (designs refined at the paper's 121 x 121):
-a further engine's answers to the paper's physics claims, and how the theory's best designs do."""
+"""Rows of physics results that are not a survey (designs refined at the paper's 121 x 121), beyond
+the paper: how the theory's best designs do in physics. (Each engine's answers to the paper's own
+physics claims are rows of the claims table: ``table.reproduction_table``.)"""
 
 from __future__ import annotations
 
 from morphlearn import grid as gridmod
 from morphlearn.figures import data as fd
-from morphlearn.figures.reproduction.claim_values import empirical_rows
-from morphlearn.figures.reproduction.claims import BEYOND_MODELS, QUANTITIES
+from morphlearn.figures.reproduction.claims import BEYOND_MODELS
 from morphlearn.figures.reproduction.inputs import TableInputs
 from morphlearn.figures.reproduction.selection import at_paper_weights, is_survey, physics_models
 from morphlearn.figures.reproduction.text import config_note, frac
@@ -16,28 +16,12 @@ def refined_rows(
     theory: fd.ModelResults | None, res: fd.ModelResults, name: str, config_name: str
 ) -> list[dict[str, str]]:
     """Rows of a physics engine's results that are not a survey (the designs refined at the
-    paper's 121 x 121, issue 26): for an engine other than the reference, its canonical and best
-    designs as the reference engine's rows ask (``<name>_...`` keys); for every engine, how the
-    theory's best designs (by M_L and by M_CF) do in it, beside the designs it holds."""
+    paper's 121 x 121, issue 26): how the theory's best designs (by M_L and by M_CF) do in it,
+    beside the designs it holds."""
     from morphlearn import metrics
 
     label = fd.engine_label(name)
-    rows = []
-    if name != physics_models()[0]:
-        said = empirical_rows(res)
-        for key, quantity, paper in QUANTITIES:
-            if key in said:
-                ours, note = said[key]
-                rows.append(
-                    {
-                        "key": key.replace("empirical_", f"{name}_", 1),
-                        "quantity": quantity.replace("empirical", label, 1),
-                        "paper": f"{paper} (pybullet)",
-                        "ours": ours,
-                        "config": config_note(res, config_name),
-                        "note": note,
-                    }
-                )
+    rows: list[dict[str, str]] = []
     n_pos = theory.positions_per_axis if theory is not None else None
     if theory is None or n_pos != res.positions_per_axis:
         return rows

@@ -5,10 +5,12 @@ from __future__ import annotations
 
 from morphlearn import grid as gridmod
 from morphlearn.figures import data as fd
-from morphlearn.figures.caption import science_summary
-from morphlearn.figures.reproduction.claims import BEYOND_MODELS
+from morphlearn.figures.reproduction.claim_values import grid_scope
+from morphlearn.figures.reproduction.claims import BEYOND_MODELS, REASONS, YES_NO
 from morphlearn.figures.reproduction.inputs import TableInputs
-from morphlearn.figures.reproduction.selection import is_survey, physics_models
+from morphlearn.figures.reproduction.selection import is_survey, model_label, physics_models
+from morphlearn.figures.reproduction.text import config_note
+from morphlearn.figures.reproduction.verdict import DIFFERS, verdict
 
 
 def survey_rows(
@@ -78,12 +80,25 @@ def survey_rows(
             agree["M_CF"].text(),
         ),
     ]
-    note = f"{model}: {science_summary(empirical)}"
+    config = config_note(empirical, config_name)  # the survey's configuration: one note
     prefix = "" if label == "empirical survey" else f"{model}_"
-    return [
-        {"key": prefix + k, "quantity": q, "paper": p, "ours": o, "config": config_name, "note": note}
-        for k, q, p, o in items
+    out = [
+        {"key": prefix + k, "quantity": q, "paper": p, "ours": o, "config": config, "note": ""} for k, q, p, o in items
     ]
+    # two of these are the paper's claims about all designs: verdicts by the table's rule
+    below = None if canon is None else all(metrics.rank_of(t, canon, m) > 1 for m in metrics.METRICS)
+    source = {
+        "survey_canonical_rank": ("text, Empirical results", below),
+        "survey_best_on_both": ("text, Empirical results; Fig. 3 and Fig. 6 captions", same_pair),
+    }
+    for row in out:
+        if row["key"].removeprefix(prefix) in source:
+            where, ours = source[row["key"].removeprefix(prefix)]
+            said, why = verdict(YES_NO, True, ours, grid_scope(empirical))
+            reason, anchor = REASONS[model] if said == DIFFERS else (why, "")
+            row |= {"section": "paper", "model": f"{model_label(model)}: survey", "source": where}
+            row |= {"verdict": said, "reason": reason, "anchor": anchor}
+    return out
 
 
 def rows(t: TableInputs) -> list[dict[str, str]]:
