@@ -165,3 +165,15 @@ def test_engine_agreement_on_two_shared_designs_is_one_row_not_four_undefined() 
     said = [r["ours"] for r in rows if "Spearman" in r["quantity"]]
     assert len(said) == 1 and said[0].startswith(f"not computed: the two hold {emp.n_designs} designs in common")
     assert not any("undefined" in r["ours"] for r in rows)
+
+
+def test_a_rerender_reseals_the_table_with_its_record() -> None:
+    """The reproduction rule writes the table and its sealed record together: a re-render that
+    changes the table re-seals both (the record was refused as "not made by the render"), and
+    still nothing the render does not make."""
+    from morphlearn import bundle_rerender
+
+    for rel in ("reproduction.md", "reproduction.html", "reproduction.provenance.json", "figures/fig3.png"):
+        assert bundle_rerender.is_rendered(rel), rel
+    for rel in ("summary.provenance.json", "theory/metrics.provenance.json", "theory/metrics.csv", "README.md"):
+        assert not bundle_rerender.is_rendered(rel), rel

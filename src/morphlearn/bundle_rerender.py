@@ -22,7 +22,15 @@ from morphlearn import bounded, bundle, bundle_check, provenance, store
 
 #: Files of a bundle that a render writes (figures and the reproduction tables).
 RENDERED_SUFFIXES = (".png", ".pdf", ".caption.md")
-RENDERED_TABLES = ("reproduction.csv", "reproduction.md", "reproduction.html", "persistence.csv")
+#: The reproduction rule writes its sealed record too: the digests of the tables it wrote, so a
+#: table that changes changes its record (the inputs it names are checked unchanged by check-bundle).
+RENDERED_TABLES = (
+    "reproduction.csv",
+    "reproduction.md",
+    "reproduction.html",
+    "persistence.csv",
+    "reproduction.provenance.json",
+)
 
 
 def is_rendered(rel: str) -> bool:
