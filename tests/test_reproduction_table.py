@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import dataclasses
 import re
+from pathlib import Path
 
 import pandas as pd
 import pytest
@@ -177,3 +178,33 @@ def test_a_rerender_reseals_the_table_with_its_record() -> None:
         assert bundle_rerender.is_rendered(rel), rel
     for rel in ("summary.provenance.json", "theory/metrics.provenance.json", "theory/metrics.csv", "README.md"):
         assert not bundle_rerender.is_rendered(rel), rel
+
+
+def test_a_rerender_moves_a_changed_record_once(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """A bundle that lists the record (results/paper does): a render that changes the table and
+    its record re-seals both, each moved into the bundle once (the record is also one of the files
+    a render may leave beside a bundle; moving it twice failed with FileNotFoundError)."""
+    import json
+
+    from morphlearn import bundle, bundle_check, bundle_rerender, provenance
+
+    b = tmp_path / "b"
+    b.mkdir()
+    files = {"reproduction.csv": "a\n", "reproduction.md": "# t\n", "reproduction.provenance.json": "{}\n"}
+    files["data.csv"] = "x\n"
+    for rel, text in files.items():
+        (b / rel).write_text(text)
+    listed = {rel: provenance.sha256_file(b / rel) for rel in files}
+    (b / bundle.MANIFEST).write_text(json.dumps({"files": listed, "made_by": {"configs": []}}))
+    monkeypatch.setattr(bundle_check, "check", lambda _: [])  # the moves are tested here, not the checks
+
+    def render(_cmd: list[str], root: Path, target: Path) -> None:
+        for rel in ("reproduction.md", "reproduction.provenance.json"):
+            (root / target / rel).write_text((root / target / rel).read_text() + "new\n")
+
+    monkeypatch.setattr(bundle_rerender, "_render", render)
+    assert bundle_rerender.rerender("b", tmp_path) == ["reproduction.md", "reproduction.provenance.json"]
+    assert (b / "reproduction.provenance.json").read_text() == "{}\nnew\n" and (b / "data.csv").read_text() == "x\n"
+    manifest = json.loads((b / bundle.MANIFEST).read_text())
+    assert manifest["files"]["reproduction.md"] == provenance.sha256_file(b / "reproduction.md")
+    assert not list(tmp_path.glob(".rerender-*"))

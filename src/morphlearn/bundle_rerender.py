@@ -91,7 +91,12 @@ def rerender(bundle_dir: str | Path, root: str | Path, cores: int = 2) -> list[s
             )
         # what the render writes beside the listed files (notebooks' HTML, logs, benchmarks): kept
         # in the bundle, as an in-place render leaves them (check-bundle allows exactly these)
-        extra = [r for r in sorted(bundle_check.rendered_files(manifest["files"])) if (work / r).is_file()]
+        # (a listed one, like the reproduction record of a bundle that lists it, moves once: above)
+        extra = [
+            r
+            for r in sorted(bundle_check.rendered_files(manifest["files"]))
+            if r not in changed and (work / r).is_file()
+        ]
         kept = {r: (path / r).read_bytes() for r in changed}  # put back if a move fails (a full disk)
         try:
             for r in [*changed, *extra]:
