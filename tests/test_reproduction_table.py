@@ -208,3 +208,14 @@ def test_a_rerender_moves_a_changed_record_once(tmp_path: Path, monkeypatch: pyt
     manifest = json.loads((b / bundle.MANIFEST).read_text())
     assert manifest["files"]["reproduction.md"] == provenance.sha256_file(b / "reproduction.md")
     assert not list(tmp_path.glob(".rerender-*"))
+
+
+def test_a_run_without_physics_says_so_once() -> None:
+    """Without physics results the physics claims are one set of "not in this run" rows, and the
+    header says no physics ran (not that other engines answer the claims)."""
+    t = reproduction_table(None, None, None, "cfg.yaml", 1.0)
+    claims_rows = t[t.section == PAPER]
+    assert len(claims_rows) == len(claims.CLAIMS) and set(claims_rows.verdict) == {NOT_COMPARABLE}
+    assert set(claims_rows.reason) == {claims.NOT_RUN}
+    md = writers.to_markdown(t, "cfg.yaml")
+    assert "No physics results are in this run." in md and "other engines answer" not in md

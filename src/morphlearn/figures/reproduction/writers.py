@@ -64,6 +64,8 @@ def engine_sentence(table: pd.DataFrame) -> str:
     models = set(table[table.section == PAPER].model)
     if any(m.endswith("(the paper's engine)") for m in models) or models <= {"theory"}:
         return ""
+    if "physics" in models:  # the placeholder rows of a run without physics
+        return " No physics results are in this run."
     return (
         " No results of the paper's engine (ODE, with the authors' robot) are in this run: other engines "
         "answer its physics claims."
