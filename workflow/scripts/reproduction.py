@@ -1,6 +1,5 @@
 """Rule reproduction: the paper-vs-ours table (CSV, Markdown, HTML) and the persistence counts."""
 
-import os
 import sys
 from pathlib import Path
 
@@ -24,9 +23,7 @@ table, persistence = build.run(
     p.survey,
     stored_persistence=stored[0] if stored else None,
 )
-# the reasons' page, relative to the table (a bundle re-rendered in place links the same file)
-docs = os.path.relpath("docs/results.md", s.results_dir)
-writers.write(table, out.csv, out.md, out.html, p.config_name, docs)
+writers.write(table, out.csv, out.md, out.html, p.config_name)
 pers_path = stored[0] if stored else out.persistence
 if not stored:
     persistence.to_csv(pers_path, index=False)

@@ -3,7 +3,9 @@
 Both documents carry the same content: the paper's claims with their verdicts, the rows beyond the
 paper in a second table, and the configuration and method notes once each, as numbered notes (a
 row cites its notes by number). The first note is the verdict rule; a "differs" links its reason
-in docs/results.md (``docs``: that file's path relative to the document)."""
+in docs/results.md by a path from the repository's root (:data:`DOCS`): a path relative to the
+table would change with the results folder, and a bundle re-rendered in another folder must give
+the same bytes."""
 
 from __future__ import annotations
 
@@ -18,6 +20,8 @@ from morphlearn.figures.reproduction.table import PAPER
 from morphlearn.figures.reproduction.verdict import DIFFERS, NOT_COMPARABLE, REPRODUCED, TOLERANCES, VERDICTS
 
 TITLE = "Reproduction table"
+#: Where the reasons of the "differs" verdicts are, from the repository's root (GitHub resolves it).
+DOCS = "/docs/results.md"
 #: The verdict rule, stated once (note 1 of every table).
 RULE = (
     "Verdict rule: **reproduced** when ours is within its kind's tolerance of the paper's value ("
@@ -82,7 +86,7 @@ def _verdict_md(r: object, docs: str) -> str:
     return f"**{v}**" + (f": {reason}{link}" if reason else "")
 
 
-def to_markdown(table: pd.DataFrame, config_name: str = "", docs: str = "docs/results.md") -> str:
+def to_markdown(table: pd.DataFrame, config_name: str = "", docs: str = DOCS) -> str:
     """A GitHub Markdown document: the claims table, the beyond table and the numbered notes."""
     esc: Callable[[object], str] = lambda s: str(s).replace("|", "\\|")  # noqa: E731
     notes, cites = notes_of(table, config_name)
@@ -147,7 +151,7 @@ def _md_inline(text: str) -> str:
     return re.sub(r"`(.+?)`", r"<code>\1</code>", out)
 
 
-def to_html(table: pd.DataFrame, config_name: str = "", docs: str = "docs/results.md") -> str:
+def to_html(table: pd.DataFrame, config_name: str = "", docs: str = DOCS) -> str:
     """A self-contained, styled HTML page with the same content as :func:`to_markdown`."""
     e = html.escape
     notes, cites = notes_of(table, config_name)
@@ -198,11 +202,8 @@ def to_html(table: pd.DataFrame, config_name: str = "", docs: str = "docs/result
     return "\n".join(out)
 
 
-def write(
-    table: pd.DataFrame, csv: str | Path, md: str | Path, html_path: str | Path, config_name: str = "", docs: str = ""
-) -> None:
-    """The three files; ``docs``: docs/results.md relative to the documents' folder."""
-    docs = docs or "docs/results.md"
+def write(table: pd.DataFrame, csv: str | Path, md: str | Path, html_path: str | Path, config_name: str = "") -> None:
+    """The three files (``config_name``: the config files that made the run, said once)."""
     table.to_csv(csv, index=False)
-    Path(md).write_text(to_markdown(table, config_name, docs))
-    Path(html_path).write_text(to_html(table, config_name, docs))
+    Path(md).write_text(to_markdown(table, config_name))
+    Path(html_path).write_text(to_html(table, config_name))
