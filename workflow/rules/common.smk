@@ -13,7 +13,6 @@ from morphlearn.learners import experiment as learner_experiment
 from morphlearn.coopt import stage as coopt_stage
 from morphlearn.figures import options as figure_options
 from morphlearn.figures import registry as figure_registry
-from morphlearn.figures.reproduction import stage_registry as reproduction_stages
 
 # The config, parsed once into typed settings: everything below reads S, never the raw dict.
 try:

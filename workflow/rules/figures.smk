@@ -62,7 +62,9 @@ rule reproduction:
         },
         # like a figure's: the package modules the script and every registered stage import, so a
         # code edit re-runs it
-        code=reproduction_stages.code_files("workflow/scripts/reproduction.py", "src"),
+        code=figure_registry.reproduction_code(
+            "workflow/scripts/reproduction.py", "src"
+        ),
         # beyond the paper: the learner stage's correlations, when it runs
         learners=([f"{R}/learners/correlations.csv"] if S.learners.enabled else []),
         # beyond the paper: the coopt stage's tables, when it runs

@@ -3,8 +3,8 @@
 As ``figures.registry`` lists the figures, this lists the row builders: a stage is its module
 ``stages/<name>.py`` (with ``rows(inputs) -> list[dict]``) and one line below. Modules are found
 by name, so this module imports none of them (light: the Snakefile imports it at parse time);
-:func:`code_files` gives the reproduction rule every module a stage imports, so editing one
-re-renders the table.
+``figures.registry.reproduction_code`` gives the reproduction rule every module a stage imports,
+so editing one re-renders the table.
 """
 
 from __future__ import annotations
@@ -12,10 +12,7 @@ from __future__ import annotations
 import importlib
 from collections.abc import Callable
 from dataclasses import dataclass
-from pathlib import Path
 from typing import Any
-
-from morphlearn.figures.registry import notebook_modules
 
 PACKAGE = "morphlearn.figures.reproduction.stages"
 
@@ -39,16 +36,3 @@ STAGES: dict[str, Stage] = {
 def rows_of(name: str) -> Callable[[Any], list[dict[str, str]]]:
     """A stage's row builder (its module imported on first use)."""
     return importlib.import_module(f"{PACKAGE}.{name}").rows
-
-
-def module_file(name: str, src: str | Path = "src") -> str:
-    return str(Path(src).joinpath(*PACKAGE.split("."), f"{name}.py"))
-
-
-def code_files(script: str | Path, src: str | Path = "src") -> list[str]:
-    """The package files the reproduction rule runs: what ``script`` imports and every stage module
-    with what it imports (found by name, so :func:`notebook_modules` alone would not see them)."""
-    files = set(notebook_modules(script, src))
-    for name in STAGES:
-        files |= {module_file(name, src), *notebook_modules(module_file(name, src), src)}
-    return sorted(files)
