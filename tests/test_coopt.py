@@ -265,13 +265,14 @@ def test_reproduction_rows_match_the_committed_runs_and_landscape_counts() -> No
     from the landscape's generalist counts."""
     import re
 
-    from morphlearn.figures import reproduction
+    from morphlearn.figures.reproduction.claims import BEYOND_COOPT
+    from morphlearn.figures.reproduction.table import reproduction_table
 
     b = ROOT / "results" / "coopt"
     summary, land = pd.read_csv(b / "summary.csv"), pd.read_csv(b / "landscape.csv")
-    table = reproduction.reproduction_table(None, None, None, "coopt.yaml", 0.1, coopt=(summary, land, 0.5))
+    table = reproduction_table(None, None, None, "coopt.yaml", 0.1, coopt=(summary, land, 0.5))
     rows = table[table.key.str.startswith("coopt_")].set_index("key")
-    assert (rows.paper == reproduction.BEYOND_COOPT).all() and len(rows) == 5 * 2 + 2
+    assert (rows.paper == BEYOND_COOPT).all() and len(rows) == 5 * 2 + 2
     runs = pd.read_csv(b / "runs.csv")
     top = runs[(runs.budget == runs.budget.max()) & (runs.sigma0.isna() | (runs.sigma0 == 0.5))]
     names = {"random": "random search", "one_plus_one": "(1+1)-ES (step 0.5)", "cmaes": "CMA-ES (step 0.5)"}

@@ -158,13 +158,14 @@ def test_reproduction_engine_rows_on_the_committed_surveys() -> None:
 
     from morphlearn import metrics
     from morphlearn.figures import data as fd
-    from morphlearn.figures import reproduction as rp
+    from morphlearn.figures.reproduction.claims import BEYOND_ENGINES
+    from morphlearn.figures.reproduction.stages.engines import engine_rows
 
     emp = fd.load_results(ROOT / "results/survey", "empirical", None)
     mj_table = pd.read_csv(MJ / "survey_metrics.csv")
     mj = dataclasses.replace(emp, model="mujoco", table=mj_table)
-    rows = {r["key"]: r for r in rp.engine_rows(emp, mj, ("empirical", "mujoco"), "MuJoCo", "cfg")}
-    assert {r["paper"] for r in rows.values()} == {rp.BEYOND_ENGINES}
+    rows = {r["key"]: r for r in engine_rows(emp, mj, ("empirical", "mujoco"), "MuJoCo", "cfg")}
+    assert {r["paper"] for r in rows.values()} == {BEYOND_ENGINES}
     pb = emp.table.set_index("design").loc[mj_table.design].reset_index()
     for m in metrics.METRICS:
         a, b = pb[m].to_numpy(float), mj_table[m].to_numpy(float)
@@ -188,12 +189,12 @@ def test_reproduction_survey_rows_of_a_further_engine_against_the_theory() -> No
     from scipy import stats
 
     from morphlearn.figures import data as fd
-    from morphlearn.figures import reproduction as rp
+    from morphlearn.figures.reproduction.stages.survey import survey_rows
 
     theory = fd.load_results(ROOT / "results/survey", "theory", None)
     emp = fd.load_results(ROOT / "results/survey", "empirical", None)
     mj = dataclasses.replace(emp, model="mujoco", table=pd.read_csv(MJ / "survey_metrics.csv"))
-    rows = {r["key"]: r for r in rp.survey_rows(theory, mj, "cfg", model="mujoco", label="MuJoCo survey")}
+    rows = {r["key"]: r for r in survey_rows(theory, mj, "cfg", model="mujoco", label="MuJoCo survey")}
     t = theory.table.set_index("design").loc[mj.table.design]
     rho = stats.spearmanr(t["M_L"].to_numpy(float), mj.table["M_L"].to_numpy(float)).statistic
     said = [r["ours"] for k, r in rows.items() if "rho" in k and "M_L" in k]
@@ -209,17 +210,24 @@ def test_refined_rows_say_how_the_theory_best_designs_do_in_physics() -> None:
 
     from morphlearn import grid, metrics
     from morphlearn.figures import data as fd
-    from morphlearn.figures import reproduction as rp
+    from morphlearn.figures.reproduction.stages.refined import refined_rows
+    from morphlearn.figures.reproduction.table import reproduction_table
 
     theory = fd.load_results(ROOT / "results/paper", "theory", None)
     emp = fd.load_results(ROOT / "results/paper", "empirical", None)
     mj = dataclasses.replace(emp, model="mujoco")
-    rows = {r["key"]: r for r in rp.refined_rows(theory, mj, "mujoco", "cfg")}
+    rows = {r["key"]: r for r in refined_rows(theory, mj, "mujoco", "cfg")}
     canon = metrics.find_row(emp.table, grid.canonical_design())
     m2 = emp.n_controllers
-    assert rows["mujoco_canonical_M_L"]["ours"].startswith(f"{canon.M_L:.4g} ({int(canon.generalists)} of {m2}")
-    assert rows["mujoco_canonical_M_L"]["quantity"] == "MuJoCo, canonical design: M_L"
-    assert rows["mujoco_best_on_both"]["paper"] == "yes (pybullet)"
+    # the further engine's answers to the paper's physics claims are rows of the claims table, each
+    # with the paper's own value (the paper's physics ran in ODE, not pybullet) and the engine named
+    table = reproduction_table(theory, emp, None, "cfg", 1.0, engines={"mujoco": mj}).set_index("key")
+    assert table.at["mujoco_canonical_M_L", "ours"] == f"{canon.M_L:.4g}"
+    assert table.at["mujoco_canonical_generalists", "ours"].startswith(f"{int(canon.generalists)} of {m2}")
+    assert table.at["mujoco_canonical_M_L", "quantity"] == "canonical design: M_L"
+    assert table.at["mujoco_canonical_M_L", "model"] == "MuJoCo (another engine)"
+    assert table.at["mujoco_best_on_both", "paper"] == "yes"
+    assert set(rows) == {f"mujoco_theory_best_{by}_in_physics" for by in metrics.METRICS}
     for by in metrics.METRICS:
         top = theory.best(by)
         design = fd.row_design(top)
@@ -232,6 +240,6 @@ def test_refined_rows_say_how_the_theory_best_designs_do_in_physics() -> None:
         else:
             assert said.endswith(f"not among the {mj.n_designs} designs these results hold")
     # the reference engine gets only the theory-best rows (its own rows are the paper's quantities)
-    assert {r["key"] for r in rp.refined_rows(theory, emp, "empirical", "cfg")} == {
+    assert {r["key"] for r in refined_rows(theory, emp, "empirical", "cfg")} == {
         f"empirical_theory_best_{by}_in_physics" for by in metrics.METRICS
     }

@@ -9,7 +9,7 @@ from pathlib import Path
 import pandas as pd
 from conftest import copy_workflow, job_stats, snakemake, written_results
 
-from morphlearn.figures.reproduction import BEYOND
+from morphlearn.figures.reproduction.claims import BEYOND
 
 TINY = (
     "learners: {enabled: true, seeds: 2, budget: 4, cycles: 1, per_phase: 4, max_designs: 3, shards: 2, "

@@ -24,7 +24,15 @@ from morphlearn import bounded, bundle, bundle_check, provenance, store
 
 #: Files of a bundle that a render writes (figures and the reproduction tables).
 RENDERED_SUFFIXES = (".png", ".pdf", ".caption.md")
-RENDERED_TABLES = ("reproduction.csv", "reproduction.md", "reproduction.html", "persistence.csv")
+#: The reproduction rule writes its sealed record too: the digests of the tables it wrote, so a
+#: table that changes changes its record (the inputs it names are checked unchanged by check-bundle).
+RENDERED_TABLES = (
+    "reproduction.csv",
+    "reproduction.md",
+    "reproduction.html",
+    "persistence.csv",
+    "reproduction.provenance.json",
+)
 
 
 def is_rendered(rel: str) -> bool:
@@ -97,7 +105,12 @@ def rerender(bundle_dir: str | Path, root: str | Path, cores: int = 2) -> list[s
             )
         # what the render writes beside the listed files (notebooks' HTML, logs, benchmarks): kept
         # in the bundle, as an in-place render leaves them (check-bundle allows exactly these)
-        extra = [r for r in sorted(bundle_check.rendered_files(manifest["files"])) if (work / r).is_file()]
+        # (a listed one, like the reproduction record of a bundle that lists it, moves once: above)
+        extra = [
+            r
+            for r in sorted(bundle_check.rendered_files(manifest["files"]))
+            if r not in changed and (work / r).is_file()
+        ]
         kept = {r: (path / r).read_bytes() for r in changed}  # put back if a move fails (a full disk)
         try:
             for r in [*changed, *extra]:

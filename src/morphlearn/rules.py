@@ -150,7 +150,7 @@ def check_stored_persistence(path: str | Path) -> None:
     A bundle made before that record existed (``results/survey``, bundled at 1f12008) has none;
     there its ``bundle.json`` vouches for the table, as it does for a bundle's older unsealed
     metrics records (:func:`provenance.check_derived`). A record present is always checked."""
-    from morphlearn.figures.reproduction import RECORD
+    from morphlearn.figures.reproduction.record import RECORD
 
     path = Path(path)
     record = path.with_name(RECORD)

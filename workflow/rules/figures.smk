@@ -60,8 +60,11 @@ rule reproduction:
             for m in MODELS
             for n in ("metrics.csv", "merged.zarr")
         },
-        # like a figure's: the package modules the script imports, so a code edit re-runs it
-        code=figure_registry.notebook_modules("workflow/scripts/reproduction.py", "src"),
+        # like a figure's: the package modules the script and every registered stage import, so a
+        # code edit re-runs it
+        code=figure_registry.reproduction_code(
+            "workflow/scripts/reproduction.py", "src"
+        ),
         # beyond the paper: the learner stage's correlations, when it runs
         learners=([f"{R}/learners/correlations.csv"] if S.learners.enabled else []),
         # beyond the paper: the coopt stage's tables, when it runs
@@ -88,7 +91,7 @@ rule reproduction:
             caption="../report/reproduction.rst",
             category="Reproduction",
         ),
-        # custody: the digests of the tables read and of these files (reproduction.write_record)
+        # custody: the digests of the tables read and of these files (reproduction.record.write_record)
         provenance=update(f"{R}/reproduction.provenance.json"),
     log:
         f"{R}/logs/reproduction.log",

@@ -7,11 +7,11 @@ sys.path.insert(0, str(Path(snakemake.scriptdir)))  # noqa: F821
 from _entry import setup
 
 s = setup(snakemake)  # noqa: F821
-from morphlearn.figures import reproduction  # noqa: E402
+from morphlearn.figures.reproduction import build, record, writers  # noqa: E402
 
 p, out = snakemake.params, snakemake.output  # noqa: F821
 stored = list(snakemake.input.stored_persistence)  # noqa: F821  (render_only: read, not integrated)
-table, persistence = reproduction.run(
+table, persistence = build.run(
     s.results_dir,
     p.config_name,
     dict(p.thresholds),
@@ -23,11 +23,11 @@ table, persistence = reproduction.run(
     p.survey,
     stored_persistence=stored[0] if stored else None,
 )
-reproduction.write(table, out.csv, out.md, out.html)
+writers.write(table, out.csv, out.md, out.html, p.config_name)
 pers_path = stored[0] if stored else out.persistence
 if not stored:
     persistence.to_csv(pers_path, index=False)
 extra = [f"{s.results_dir}/learners/correlations.csv"] if p.learners else []
 extra += [f"{s.results_dir}/coopt/{n}.csv" for n in ("summary", "landscape")] if p.coopt is not None else []
 extra += [f"{s.results_dir}/{s.survey.folder}/metrics.csv"] if p.survey else []
-reproduction.write_record(s.results_dir, list(p.thresholds), [out.csv, out.md, out.html, pers_path], extra)
+record.write_record(s.results_dir, list(p.thresholds), [out.csv, out.md, out.html, pers_path], extra)

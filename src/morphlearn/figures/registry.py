@@ -21,6 +21,8 @@ from collections.abc import Iterable
 from dataclasses import dataclass
 from pathlib import Path
 
+from morphlearn.figures.reproduction import stage_registry
+
 PACKAGE = "morphlearn"
 
 
@@ -171,3 +173,15 @@ def _file_imports(path: Path, current: str, mtime_ns: int, size: int) -> tuple[s
 def _imports_of(path: Path, current: str) -> tuple[str, ...]:
     st = path.stat()
     return _file_imports(path, current, st.st_mtime_ns, st.st_size)
+
+
+def reproduction_code(script: str | Path, src: str | Path = "src") -> list[str]:
+    """The package files the reproduction rule runs: what ``script`` imports and every registered
+    stage module (found by name, so :func:`notebook_modules` alone would not see them) with what it
+    imports. Here, not in the table's modules: this module is the workflow's, and editing it must
+    not re-render the table."""
+    files = set(notebook_modules(script, src))
+    for name in stage_registry.STAGES:
+        stage = Path(src).joinpath(*stage_registry.PACKAGE.split("."), f"{name}.py")
+        files |= {str(stage), *notebook_modules(stage, src)}
+    return sorted(files)

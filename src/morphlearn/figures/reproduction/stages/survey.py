@@ -1,0 +1,118 @@
+"""Rows of a physics survey (every design of the theory's grid): the paper's claims that need every
+design and, beyond the paper, the theory-vs-physics rank agreement."""
+
+from __future__ import annotations
+
+from morphlearn import grid as gridmod
+from morphlearn.figures import data as fd
+from morphlearn.figures.reproduction.claim_values import grid_scope
+from morphlearn.figures.reproduction.claims import BEYOND_MODELS, REASONS, YES_NO
+from morphlearn.figures.reproduction.inputs import TableInputs
+from morphlearn.figures.reproduction.selection import is_survey, model_label, physics_models
+from morphlearn.figures.reproduction.text import config_note
+from morphlearn.figures.reproduction.verdict import DIFFERS, verdict
+
+
+def survey_rows(
+    theory: fd.ModelResults,
+    empirical: fd.ModelResults,
+    config_name: str,
+    model: str = "empirical",
+    label: str = "empirical survey",
+) -> list[dict[str, str]]:
+    """Rows of the survey: the paper's empirical claims that need every design (asymmetric
+    designs best on both metrics, generalists rare) and, beyond the paper, whether the theory's
+    ranking of designs carries over (Spearman rho with a 95 % bootstrap interval). ``model``
+    names the physics model's table (keys of other engines than the reference are prefixed with
+    it, quantities with ``label``)."""
+    from morphlearn import compare, metrics, models
+
+    t = empirical.table
+    n = len(t)
+    names = (models.REFERENCE, model)
+    both = compare.joined(theory.table, t, names=names)
+    agree = compare.agreement(both, names=names)
+    top_l, top_cf = metrics.rank_designs(t, "M_L"), metrics.rank_designs(t, "M_CF")
+    best = top_l.iloc[0]
+    canon = metrics.find_row(t, gridmod.canonical_design())
+    with_g = int((t.generalists > 0).sum())
+    canon_rank = (
+        "canonical not simulated"
+        if canon is None
+        else f"{metrics.rank_of(t, canon, 'M_L')} by M_L, {metrics.rank_of(t, canon, 'M_CF')} by M_CF "
+        f"(of {n}; ties share a rank)"
+    )
+    same = int(best.design) == int(top_cf.iloc[0].design)
+    mirror_l, mirror_cf = (
+        gridmod.DesignGrid(empirical.positions_per_axis).mirror(int(r.design)) for r in (best, top_cf.iloc[0])
+    )
+    same_pair = same or int(mirror_l) == int(top_cf.iloc[0].design) or int(mirror_cf) == int(best.design)
+    top3 = "; ".join(
+        f"{fd.design_label(*fd.row_design(r))} (M_L {r.M_L:.4g}, M_CF {r.M_CF:.4g})"
+        for _, r in top_l.head(3).iterrows()
+    )
+    engine = "physics" if label == "empirical survey" else label.split()[0]
+    items = [
+        (
+            "survey_share_with_generalist",
+            f"{label}: designs with at least one generalist",
+            "(not stated)",
+            f"{with_g} of {n} ({with_g / n:.1%})",
+        ),
+        ("survey_best_designs", f"{label}: the best designs by M_L", "(Fig. 3C, not as coordinates)", top3),
+        (
+            "survey_canonical_rank",
+            f"{label}: the canonical design's rank",
+            "below the best asymmetric design on both metrics",
+            canon_rank,
+        ),
+        (
+            "survey_best_on_both",
+            f"{label}: one design (or mirror pair) best by both M_L and M_CF",
+            "yes",
+            "yes" if same_pair else f"no (best by M_CF: {fd.design_label(*fd.row_design(top_cf.iloc[0]))})",
+        ),
+        ("survey_rho_M_L", f"theory vs {engine}: Spearman rho of M_L over designs", BEYOND_MODELS, agree["M_L"].text()),
+        (
+            "survey_rho_M_CF",
+            f"theory vs {engine}: Spearman rho of M_CF over designs",
+            BEYOND_MODELS,
+            agree["M_CF"].text(),
+        ),
+    ]
+    config = config_note(empirical, config_name)  # the survey's configuration: one note
+    prefix = "" if label == "empirical survey" else f"{model}_"
+    out = [
+        {"key": prefix + k, "quantity": q, "paper": p, "ours": o, "config": config, "note": ""} for k, q, p, o in items
+    ]
+    # two of these are the paper's claims about all designs: verdicts by the table's rule
+    below = None if canon is None else all(metrics.rank_of(t, canon, m) > 1 for m in metrics.METRICS)
+    source = {
+        "survey_canonical_rank": ("text, Empirical results", below),
+        "survey_best_on_both": ("text, Empirical results; Fig. 3 and Fig. 6 captions", same_pair),
+    }
+    for row in out:
+        if row["key"].removeprefix(prefix) in source:
+            where, ours = source[row["key"].removeprefix(prefix)]
+            said, why = verdict(YES_NO, True, ours, grid_scope(empirical))
+            reason, anchor = REASONS[model] if said == DIFFERS else (why, "")
+            row |= {"section": "paper", "model": f"{model_label(model)}: survey", "source": where}
+            row |= {"verdict": said, "reason": reason, "anchor": anchor}
+    return out
+
+
+def rows(t: TableInputs) -> list[dict[str, str]]:
+    """The survey read from a bundle (config ``survey_from``), then the run's own pybullet survey
+    unless the bundle's is the reference engine's."""
+    out: list[dict[str, str]] = []
+    theory, survey, empirical = t.theory, t.survey, t.empirical
+    if survey is not None and theory is not None and is_survey(theory, survey):
+        if survey.model == physics_models()[0]:  # the reference engine's survey: the plain survey rows
+            out += survey_rows(theory, survey, t.config_name)
+        else:
+            out += survey_rows(
+                theory, survey, t.config_name, model=survey.model, label=f"{fd.engine_label(survey.model)} survey"
+            )
+    if is_survey(theory, empirical) and (survey is None or survey.model != physics_models()[0]):
+        out += survey_rows(theory, empirical, t.config_name)  # type: ignore[arg-type]
+    return out

@@ -1,0 +1,95 @@
+"""The table: one row per paper claim (``claims.CLAIMS``, in that order; a physics claim once per
+physics engine the run holds, the paper's engine first), each with its verdict; then each
+registered stage's rows beyond the paper (``stage_registry.STAGES``, in that order)."""
+
+from __future__ import annotations
+
+import pandas as pd
+
+from morphlearn.figures import data as fd
+from morphlearn.figures.reproduction import stage_registry
+from morphlearn.figures.reproduction.claim_values import Ours, physics_values, theory_values
+from morphlearn.figures.reproduction.claims import CLAIMS, COLUMNS, NOT_RUN, PAPER_ENGINE, REASONS, Claim
+from morphlearn.figures.reproduction.inputs import TableInputs
+from morphlearn.figures.reproduction.selection import model_label, physics_models
+from morphlearn.figures.reproduction.text import config_note
+from morphlearn.figures.reproduction.verdict import DIFFERS, verdict
+
+#: The section of the rows that answer the paper's claims, and of those beyond it.
+PAPER, BEYOND_SECTION = "paper", "beyond"
+
+
+def claim_engines(
+    empirical: fd.ModelResults | None, engines: dict[str, fd.ModelResults]
+) -> list[tuple[str, fd.ModelResults]]:
+    """The physics results that answer the paper's physics claims: the paper's engine (ODE) first,
+    then the reference engine (pybullet), then the others in registry order."""
+    held = dict(engines)
+    if empirical is not None:
+        held[physics_models()[0]] = empirical
+    order = [PAPER_ENGINE, *physics_models()]
+    return [(n, held[n]) for n in dict.fromkeys(order) if n in held]
+
+
+def reason_of(claim: Claim, model: str) -> tuple[str, str]:
+    """Why ours differs: (sentence, docs/results.md anchor), by claim, then by engine."""
+    key = claim.key if model in ("theory", physics_models()[0]) else claim.key.replace("empirical_", f"{model}_", 1)
+    for k in (key, model):
+        if k in REASONS:
+            return REASONS[k]
+    raise KeyError(f"no reason in claims.REASONS for {claim.key!r} ({model}), which differs")
+
+
+def claim_row(claim: Claim, model: str, ours: Ours | None, config: str) -> dict[str, str]:
+    ours = ours or Ours(NOT_RUN)
+    said, why = verdict(claim.kind, claim.value, ours.value, ours.scope)
+    reason, anchor = reason_of(claim, model) if said == DIFFERS else (why, "")
+    physics = claim.model == "physics" and model not in ("physics", physics_models()[0])
+    return {
+        "key": claim.key.replace("empirical_", f"{model}_", 1) if physics else claim.key,
+        "section": PAPER,
+        "model": model_label(model),
+        "quantity": claim.quantity,
+        "paper": claim.paper,
+        "source": claim.source,
+        "ours": ours.text,
+        "verdict": said,
+        "reason": reason,
+        "anchor": anchor,
+        "config": config,
+        "note": ours.note,
+    }
+
+
+def reproduction_table(
+    theory: fd.ModelResults | None,
+    empirical: fd.ModelResults | None,
+    persistence: pd.DataFrame | None,
+    config_name: str,
+    near: float,
+    learners: pd.DataFrame | None = None,
+    engines: dict[str, fd.ModelResults] | None = None,
+    coopt: tuple[pd.DataFrame, pd.DataFrame, float] | None = None,
+    survey: fd.ModelResults | None = None,
+) -> pd.DataFrame:
+    """The table: the theory's claims, then the physics claims for each engine held (ODE first;
+    ``empirical`` is the reference engine's results, ``engines`` the others'), then the rows
+    beyond the paper of every registered stage: the physics survey read from a bundle
+    (``survey``, config ``survey_from``), each further engine's survey and agreement rows, the
+    learner rows when ``learners`` (learners/correlations.csv) is given, the coopt stage's when
+    ``coopt`` (its summary, landscape table and step) is given."""
+    engines = engines or {}
+    rows = []
+    said = {} if theory is None else theory_values(theory, persistence, near)
+    for claim in (c for c in CLAIMS if c.model == "theory"):
+        rows.append(claim_row(claim, "theory", said.get(claim.key), config_note(theory, config_name)))
+    physics = claim_engines(empirical, engines)
+    for name, res in physics or [("physics", None)]:
+        others = [r for n, r in physics if n != name]
+        said = {} if res is None else physics_values(res, others)
+        for claim in (c for c in CLAIMS if c.model == "physics"):
+            rows.append(claim_row(claim, name, said.get(claim.key), config_note(res, config_name)))
+    inputs = TableInputs(theory, empirical, persistence, config_name, near, learners, engines, coopt, survey)
+    for name in stage_registry.STAGES:
+        rows += [{"section": BEYOND_SECTION, **r} for r in stage_registry.rows_of(name)(inputs)]
+    return pd.DataFrame(rows, columns=COLUMNS).fillna("")
