@@ -15,8 +15,8 @@ import numpy as np
 
 from morphlearn.config import ConfigError
 from morphlearn.model_interface import Done, Resources
+from morphlearn.mujoco import mjwarp  # its names looked up per call (tests patch them)
 from morphlearn.mujoco.episode import evaluate_design
-from morphlearn.mujoco.mjwarp import WarpBatchRunner, device_name, evaluate_designs, resolve_device
 from morphlearn.mujoco.rows import ENGINE
 from morphlearn.physics.model import Physics, PhysicsSettings
 
@@ -68,13 +68,13 @@ class Mujoco(Physics):
             return super().evaluate(s, designs, done)
         # one model on the GPU, its kernels compiled once; the episodes of as many designs as fill
         # a batch of NWORLD worlds share it (done is called as each batch of designs finishes)
-        runner = WarpBatchRunner(e.params)
-        return evaluate_designs(s.grid.designs.coords(designs), self.weights(s), runner, e.options, done)
+        runner = mjwarp.WarpBatchRunner(e.params)
+        return mjwarp.evaluate_designs(s.grid.designs.coords(designs), self.weights(s), runner, e.options, done)
 
     def backend(self, s: Settings) -> dict[str, str]:
         if self.settings(s).backend == "cpu":
             return super().backend(s)
-        return {"backend": "mujoco-warp", "device": device_name(resolve_device(None))}
+        return {"backend": "mujoco-warp", "device": mjwarp.device_name(mjwarp.resolve_device(None))}
 
     def describe(self, science: Mapping[str, Any], n_designs: int, m: int) -> str:
         text = super().describe(science, n_designs, m)
