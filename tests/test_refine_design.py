@@ -180,7 +180,7 @@ def test_mirror_flips_counts_each_pair_once() -> None:
 _RUN_SCRIPT = """
 import sys
 from pathlib import Path
-from morphlearn.empirical import load_params
+from morphlearn.physics.params import load_params
 from morphlearn import resumable as rz
 from morphlearn.physics.options import SweepOptions
 body = Path(sys.argv[2])

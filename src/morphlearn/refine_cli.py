@@ -354,7 +354,7 @@ def add_parser(sub: Any) -> argparse.ArgumentParser:
         description=__doc__,
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
-    acts = p.add_subparsers(dest="action", required=True, metavar="ACTION")
+    acts = p.add_subparsers(dest="action", required=True, metavar="ACTION", help="what to do with the folder")
     folder_help = "a refine folder (manifest.json, rows/; e.g. results/refine/canonical_121)"
 
     s = acts.add_parser("status", help="progress, cost and metrics of the rows done")
