@@ -154,8 +154,10 @@ def cmd_check_bundle(a: argparse.Namespace) -> int:
     return 1 if problems else 0
 
 
-def cmd_rerender_bundle(a: argparse.Namespace) -> int:
-    from morphlearn import bundle, bundle_rerender
+def _render_root(a: argparse.Namespace) -> Path:
+    """The project root a render of bundle ``a.bundle`` runs in (render, rerender-bundle): the
+    current folder, holding the Snakefile and the bundle, and ``a.cores`` usable."""
+    from morphlearn import bundle
 
     root = Path.cwd()
     if not (root / "Snakefile").is_file():
@@ -164,6 +166,13 @@ def cmd_rerender_bundle(a: argparse.Namespace) -> int:
         raise UsageError(f"{a.bundle}: no {bundle.MANIFEST} (a results bundle under the project, e.g. results/paper)")
     if a.cores < 1:  # Snakemake would take 0 or -1 and fail later, after the bundle check
         raise UsageError(f"--cores = {a.cores}; allowed: an integer >= 1 (Snakemake's cores for the render)")
+    return root
+
+
+def cmd_rerender_bundle(a: argparse.Namespace) -> int:
+    from morphlearn import bundle, bundle_rerender
+
+    root = _render_root(a)
     try:
         changed = bundle_rerender.rerender(a.bundle, root, a.cores)
     except bundle.BundleError as e:
@@ -182,13 +191,7 @@ def cmd_render(a: argparse.Namespace) -> int:
     after a figure's code changed)."""
     from morphlearn import bounded, bundle, bundle_rerender
 
-    root = Path.cwd()
-    if not (root / "Snakefile").is_file():
-        raise UsageError("run it from the project's root folder (where the Snakefile is)")
-    if not _exists(root / a.bundle / bundle.MANIFEST, "file", a.bundle):
-        raise UsageError(f"{a.bundle}: no {bundle.MANIFEST} (a results bundle under the project, e.g. results/paper)")
-    if a.cores < 1:
-        raise UsageError(f"--cores = {a.cores}; allowed: an integer >= 1 (Snakemake's cores for the render)")
+    root = _render_root(a)
     files = bounded.json_file(root / a.bundle / bundle.MANIFEST).get("files", {})
     if not any(str(f).startswith("figures/") for f in files):
         raise UsageError(f"{a.bundle}: holds no figures (physics only): morphlearn check-bundle {a.bundle}")
