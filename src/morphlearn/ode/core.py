@@ -14,10 +14,9 @@ from typing import Any
 import numpy as np
 
 from morphlearn.grid import light_positions
+from morphlearn.physics.authors import success_radius
 from morphlearn.physics.params import EmpiricalParams
 
-#: The authors' success test adds 2^-10 to the contact distance 0.5 + wheel radius + light radius.
-SUCCESS_TOLERANCE = 2.0**-10
 INSTALL_HINT = (
     "the ode model needs the Open Dynamics Engine: install Debian's libode-dev "
     "(apt-get install libode-dev), then run bash tools/setup.sh to build morphlearn.ode._core"
@@ -43,11 +42,6 @@ def available() -> bool:
     except OdeUnavailableError:
         return False
     return True
-
-
-def success_radius(p: EmpiricalParams) -> float:
-    """Centre-to-light distance that counts as success in the authors' simulator."""
-    return p.contact_distance + SUCCESS_TOLERANCE
 
 
 def params_tuple(p: EmpiricalParams) -> tuple[Any, ...]:

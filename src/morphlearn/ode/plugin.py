@@ -12,7 +12,8 @@ from typing import TYPE_CHECKING, Any
 
 from morphlearn.config import ConfigError
 from morphlearn.errors import UsageError
-from morphlearn.ode.core import INSTALL_HINT, available, success_radius
+from morphlearn.ode.core import INSTALL_HINT, available
+from morphlearn.physics.authors import success_radius
 from morphlearn.physics.model import Physics
 
 if TYPE_CHECKING:
