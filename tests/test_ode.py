@@ -182,7 +182,12 @@ def test_config_refuses_early_stop_and_names_the_key() -> None:
     with pytest.raises(config.ConfigError, match=r"ode\.early_stop") as e:
         config.validate({**base, "ode": {"enabled": True, "early_stop": True}})
     assert "\n" not in str(e.value)
-    assert config.validate({**base, "ode": {"enabled": True}})["ode"]["morphology"] == "config/authors_body.yaml"
+    # no morphology named: the robot's own body file (the authors')
+    assert config.validate({**base, "ode": {"enabled": True}})["ode"]["morphology"] is None
+    s = configure.parse({**base, "ode": {"enabled": True, "designs": [[[0.5, 0.5], [0.5, -0.5]]]}})
+    assert s.models["ode"].morphology == "config/authors_body.yaml" and s.models["ode"].robot == "authors"
+    with pytest.raises(config.ConfigError, match=r"ode\.robot"):
+        config.validate({**base, "ode": {"enabled": True, "robot": "project"}})
     with pytest.raises(config.ConfigError, match=r"ode\.morphology = 'a\{b\}' holds"):
         configure.parse({**base, "ode": {"morphology": "a{b}"}})  # the model declares its path keys
 

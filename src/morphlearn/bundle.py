@@ -188,8 +188,11 @@ def bundle_files(out_dir: Path) -> Iterable[Path]:
             yield p
 
 
-def build(run_dir: str | Path, out_dir: str | Path, *, top: int, made_by: dict[str, Any]) -> dict[str, Any]:
-    """Write the bundle of ``run_dir`` to ``out_dir`` (replaced as a whole, atomically)."""
+def build(
+    run_dir: str | Path, out_dir: str | Path, *, top: int, made_by: dict[str, Any], designs_kept: str = "drawn"
+) -> dict[str, Any]:
+    """Write the bundle of ``run_dir`` to ``out_dir`` (replaced as a whole, atomically).
+    ``designs_kept``: ``drawn`` or ``all``, whose outcome arrays a model of every design keeps."""
     run_dir, out_dir = Path(run_dir), Path(out_dir)
     held = _models(run_dir)
     if not held:  # a physics survey alone (config/survey9_mujoco.yaml) is a bundle too
@@ -215,7 +218,7 @@ def build(run_dir: str | Path, out_dir: str | Path, *, top: int, made_by: dict[s
             n = positions_of(run_dir / model)
             # every design of the grid (theory, or a physics survey): only the drawn ones' arrays;
             # a survey read from another bundle holds that bundle's subset already: kept whole
-            every = len(table) == n**4
+            every = len(table) == n**4 and designs_kept == "drawn"
             if model in surveys:
                 designs = np.sort(store.open_merged(src).design.values.astype(np.int64))
             else:

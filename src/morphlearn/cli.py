@@ -23,6 +23,7 @@ from morphlearn import __version__, refine_cli
 from morphlearn import grid as gridmod
 from morphlearn.errors import UsageError, c_stdout_to_stderr
 from morphlearn.metrics import design_metrics
+from morphlearn.physics.model import ROBOT_BODIES
 
 
 class _Parser(argparse.ArgumentParser):
@@ -348,7 +349,7 @@ def build_parser() -> argparse.ArgumentParser:
         "--morphology",
         default=None,
         help="physics models: body parameters YAML (default: "
-        + "; ".join(f"{n}: {m.default_morphology}" for n, m in MODELS.items() if hasattr(m, "default_morphology"))
+        + "; ".join(f"{n}: {ROBOT_BODIES[m.robots[0]]}" for n, m in MODELS.items() if hasattr(m, "robots"))
         + ")",
     )
     d.add_argument("--json", action="store_true", help="print one JSON object")

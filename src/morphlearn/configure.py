@@ -72,6 +72,7 @@ def parse(cfg: Mapping[str, Any]) -> st.Settings:
             {name: m.parse(v.get(name, {}), st.Shared(grid, sweep, figures)) for name, m in models.MODELS.items()}
         ),
         bundle_dir=v["bundle_dir"],
+        bundle_designs=v["bundle_designs"],
         survey=_parse_survey(v["survey_from"], grid),
         scenarios=v["scenarios"],
         scenario_file=v["scenario_file"],

@@ -161,6 +161,7 @@ class Settings:
     #: model name -> that model's parsed section (the model plug-in's own settings type)
     models: Mapping[str, Any]
     bundle_dir: str | None
+    bundle_designs: str  # drawn | all: whose outcome arrays a bundle keeps
     #: the largest physics survey, read from its bundle (``survey_from``)
     survey: SurveySettings
     scenarios: str | list[str] | None

@@ -43,6 +43,7 @@ rule bundle:
     params:
         results=R,
         top=S.analysis.top,
+        designs_kept=S.bundle_designs,
         configs=BUNDLE_CONFIGS,
     script:
         "../scripts/bundle.py"

@@ -13,4 +13,4 @@ p = snakemake.params  # noqa: F821
 made_by = bundle.made_by(list(p.configs), p.results)
 bundle.check_target(snakemake.output[0], made_by)  # noqa: F821  (also checked at the start)
 bundle.check_committed(made_by, p.results, models.simulated(S))
-bundle.build(p.results, snakemake.output[0], top=p.top, made_by=made_by)  # noqa: F821
+bundle.build(p.results, snakemake.output[0], top=p.top, made_by=made_by, designs_kept=p.designs_kept)  # noqa: F821

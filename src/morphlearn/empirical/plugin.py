@@ -24,12 +24,20 @@ class Pybullet(Physics):
     env_file = "envs/empirical.yaml"
     figure_body = True
     resumes_inside_design = True
+    robots = ("project", "authors")
 
     @staticmethod
     def design_evaluator() -> Callable[..., DesignResult]:
         from morphlearn.empirical.episode import evaluate_design
 
         return evaluate_design
+
+    def robot_evaluator(self, robot: str) -> Callable[..., DesignResult]:
+        if robot == "authors":
+            from morphlearn.empirical.authors import evaluate_design
+
+            return evaluate_design
+        return super().robot_evaluator(robot)
 
     def row_engine(self) -> Engine:
         return ENGINE

@@ -29,6 +29,7 @@ The robot of :mod:`morphlearn.ode` (docs/ode.md), built as closely as MuJoCo all
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from typing import Any
 
 import numpy as np
@@ -37,7 +38,12 @@ from morphlearn.grid import light_positions
 from morphlearn.mujoco.episode import CHUNK, Episodes
 from morphlearn.mujoco.model import MujocoSettings, _f, _v
 from morphlearn.physics import authors as robot
+from morphlearn.physics.options import SweepOptions
 from morphlearn.physics.params import BODY_SIZE, EmpiricalParams
+from morphlearn.physics.sweep import sweep
+from morphlearn.results import DesignResult
+
+Point = tuple[float, float]
 
 #: qpos / qvel layout of the compiled model: free joint, then left, right, castor hinges.
 LEFT, RIGHT = 0, 1  # actuator (ctrl) columns
@@ -249,3 +255,30 @@ class AuthorsBatchRunner:
             steps[act] = p.steps
         max_tilt = np.arccos(np.clip(tilt_c, -1.0, 1.0))
         return Episodes(first, np.sqrt(min_d2), steps, finite, never, max_tilt, lift)
+
+
+def evaluate_design(
+    l1: Point,
+    l2: Point,
+    weights: np.ndarray,
+    params: EmpiricalParams,
+    progress: Callable[[int, int], None] | None = None,
+    options: SweepOptions | None = None,
+    *,
+    runner: AuthorsBatchRunner | None = None,
+) -> DesignResult:
+    """All (env, w1, w2) episodes of one design of the authors' robot; arrays (4, m, m), as the
+    other engines' ``evaluate_design``: the physics layer's sweep (adaptive grid) over batches.
+    Every episode stops at its first success (exact); the reach bound is refused (it was derived for
+    the project's body), as in the ODE model."""
+    options = options or SweepOptions()
+    if options.early_stop:
+        raise ValueError("early_stop (the reach bound) is not available for the authors' robot; allowed: false")
+    runner = runner or AuthorsBatchRunner(params)
+    if runner.params != params:
+        raise ValueError("runner was built for other params than the ones passed")
+
+    def batch(w: np.ndarray, env: np.ndarray) -> Episodes:
+        return runner.run(l1, l2, w, env)
+
+    return sweep(batch, l1, l2, weights, params, options, progress)

@@ -38,6 +38,7 @@ class MujocoModelSettings(PhysicsSettings):
 class Mujoco(Physics):
     name = "mujoco"
     engine = "mujoco"
+    robots = ("project", "authors")
     libraries = ("mujoco",)
     engine_label = "MuJoCo"
     env_file = "envs/empirical.yaml"  # the physics environment holds both engines (warp: docs/mujoco.md)
@@ -47,6 +48,11 @@ class Mujoco(Physics):
         if backend not in BACKENDS:  # the schema refuses it first; this guards direct callers
             raise ConfigError(f"mujoco.backend = {backend!r} is invalid; allowed: {list(BACKENDS)}")
         base = super().parse(sec, shared)
+        if backend != "cpu" and base.robot != "project":
+            raise ConfigError(
+                f"mujoco.backend = {backend!r} builds the project's robot only; allowed with "
+                f"mujoco.robot = {base.robot!r}: backend cpu"
+            )
         science = base.science
         if science is not None and backend != "cpu":
             # warp computes in float32: its outcomes are its own (a cache or store never mixes
@@ -61,6 +67,13 @@ class Mujoco(Physics):
     @staticmethod
     def design_evaluator() -> Callable[..., DesignResult]:
         return evaluate_design
+
+    def robot_evaluator(self, robot: str) -> Callable[..., DesignResult]:
+        if robot == "authors":
+            from morphlearn.mujoco import authors
+
+            return authors.evaluate_design
+        return super().robot_evaluator(robot)
 
     def evaluate(self, s: Settings, designs: np.ndarray, done: Done | None = None) -> list[DesignResult]:
         e = self.settings(s)

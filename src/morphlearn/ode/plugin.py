@@ -13,13 +13,11 @@ from typing import TYPE_CHECKING, Any
 from morphlearn.config import ConfigError
 from morphlearn.errors import UsageError
 from morphlearn.ode.core import INSTALL_HINT, available
-from morphlearn.physics.authors import success_radius
 from morphlearn.physics.model import Physics
 
 if TYPE_CHECKING:
-    from morphlearn.metrics import Thresholds
     from morphlearn.results import DesignResult
-    from morphlearn.settings import Settings, Shared
+    from morphlearn.settings import Shared
 
 
 class Ode(Physics):
@@ -27,7 +25,7 @@ class Ode(Physics):
     engine = "ode"
     engine_label = "ODE"
     env_file = "envs/empirical.yaml"
-    default_morphology = "config/authors_body.yaml"
+    robots = ("authors",)
     resumes_inside_design = True  # ~30 core-minutes a design at 121 x 121: resume inside it
     levers_doc = "docs/ode.md"
 
@@ -41,15 +39,6 @@ class Ode(Physics):
         from morphlearn.ode.episode import evaluate_design
 
         return evaluate_design
-
-    def thresholds(self, s: Settings) -> Thresholds:
-        from morphlearn.metrics import Thresholds
-
-        e = self.settings(s)
-        if e.bundle_thresholds is not None:
-            return Thresholds(**e.bundle_thresholds)
-        r = success_radius(e.params)  # the authors' test: contact distance + 2^-10
-        return Thresholds(e.params.horizon, r, e.params.horizon, r)
 
     def describe(self, science: Mapping[str, Any], n_designs: int, m: int) -> str:
         pr = science.get("params", {})

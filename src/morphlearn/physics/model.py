@@ -26,6 +26,7 @@ from morphlearn import grid as gridmod
 from morphlearn.config import ConfigError
 from morphlearn.errors import UsageError, c_stdout_to_stderr
 from morphlearn.model_interface import Done, Model, Resources
+from morphlearn.physics.authors import success_radius
 from morphlearn.physics.options import SweepOptions
 from morphlearn.physics.params import EmpiricalParams, load_params
 from morphlearn.progress import EpisodeProgress
@@ -38,6 +39,10 @@ if TYPE_CHECKING:
     from morphlearn.settings import Settings, Shared
 
 DEFAULT_MORPHOLOGY = "config/empirical_morphology.yaml"
+#: The robots an engine can build (``<model>.robot``) and the body file each reads when the section
+#: names none: the project's own body (re-optimised for pybullet, docs/empirical.md) and the paper
+#: authors' robot (docs/ode.md; in engines other than ODE, docs/authors_robot.md).
+ROBOT_BODIES = {"project": DEFAULT_MORPHOLOGY, "authors": "config/authors_body.yaml"}
 
 
 @dataclass(frozen=True)
@@ -45,6 +50,7 @@ class PhysicsSettings:
     """A physics model's section, typed, with its body file read (once)."""
 
     enabled: bool
+    robot: str  # a key of ROBOT_BODIES
     morphology: str
     #: the body file's parameters with the section's ``params`` overrides (None when not read:
     #: the model is off and no figure draws the body)
@@ -77,8 +83,8 @@ class Physics(Model):
     cli_options = ("morphology",)
     path_keys = ("morphology", "results_from")
     schema_like = "empirical"  # the physics section's keys (config_schema.yaml)
-    #: The body file used when the section or ``morphology`` option names none.
-    default_morphology: ClassVar[str] = DEFAULT_MORPHOLOGY
+    #: The robots this engine builds (keys of ROBOT_BODIES); the first is the default.
+    robots: ClassVar[tuple[str, ...]] = ("project",)
     #: Where the measured miss rate of its adaptive weight grid is documented (captions).
     levers_doc: ClassVar[str] = "docs/empirical_levers.md"
 
@@ -92,10 +98,14 @@ class Physics(Model):
         if enabled and results_from is not None:
             # the bundle's weights, not the section's: the summary counts its controllers
             bundle_th, weights, from_held = self.check_results_bundle(results_from, grid.positions_per_axis)
+        robot = sec.get("robot") or self.robots[0]
+        if robot not in self.robots:
+            raise ConfigError(f"{self.name}.robot = {robot!r} is invalid; allowed: {list(self.robots)}")
+        morphology = sec.get("morphology") or ROBOT_BODIES[robot]
         params, body = None, None
         # the body file is read here, once: the sweep's science and Fig. 1C (the body) need it
         if enabled or (self.figure_body and shared.figures.enabled):
-            body = self._read_body(sec.get("morphology", self.default_morphology))
+            body = self._read_body(morphology)
         overrides = dict(sec.get("params", {}))
         if enabled and results_from is None:  # a bundle's results carry their own parameters
             self._check_params(overrides, body)
@@ -116,13 +126,16 @@ class Physics(Model):
                 "weights": sec["weights"],
                 "designs": list(held),
                 "params": {**body.to_dict(), **overrides},
+                # only when not the engine's default robot: the digests of results made before hold
+                **({"robot": robot} if robot != self.robots[0] else {}),
                 # only when on, so that the digests of results made before the option existed hold
                 **({"mirror_derive": True} if mirror_derive else {}),
                 **options.science(),
             }
         return PhysicsSettings(
             enabled=enabled,
-            morphology=sec.get("morphology", self.default_morphology),
+            robot=robot,
+            morphology=morphology,
             params=params,
             weights=weights,
             held=tuple(held),
@@ -247,13 +260,21 @@ class Physics(Model):
         e = self.settings(s)
         if e.bundle_thresholds is not None:  # the bundle's own, as its metrics were made
             return Thresholds(**e.bundle_thresholds)
-        p = e.params  # success = touching the light within the episode
-        return Thresholds(p.horizon, p.contact_distance, p.horizon, p.contact_distance)
+        p = e.params  # success = touching the light within the episode (the authors' test for theirs)
+        r = success_radius(p) if e.robot == "authors" else p.contact_distance
+        return Thresholds(p.horizon, r, p.horizon, r)
 
     @staticmethod
     def design_evaluator() -> Callable[..., DesignResult]:
-        """The engine's ``evaluate_design(l1, l2, weights, params, progress=, options=)``."""
+        """The engine's ``evaluate_design(l1, l2, weights, params, progress=, options=)`` of its
+        first robot."""
         raise NotImplementedError
+
+    def robot_evaluator(self, robot: str) -> Callable[..., DesignResult]:
+        """The ``evaluate_design`` of ``robot`` (an engine with several robots overrides it)."""
+        if robot != self.robots[0]:
+            raise ValueError(f"{self.name}: robot {robot!r} is not built; allowed: {list(self.robots)}")
+        return self.design_evaluator()
 
     def evaluate(self, s: Settings, designs: np.ndarray, done: Done | None = None) -> list[DesignResult]:
         from tqdm import tqdm
@@ -261,7 +282,7 @@ class Physics(Model):
         from morphlearn import design_cache
 
         e = self.settings(s)
-        evaluate_design = self.design_evaluator()
+        evaluate_design = self.robot_evaluator(e.robot)
         w = self.weights(s)
         # the running design's episodes beside the finished designs (rules.run_shard's cache)
         folder = None
@@ -299,7 +320,7 @@ class Physics(Model):
         w = gridmod.weights(science["weights"])
         params = EmpiricalParams.from_mapping(science["params"])
         options = SweepOptions.from_science(science)  # early stop, adaptive grid: as the run had them
-        evaluate_design = self.design_evaluator()
+        evaluate_design = self.robot_evaluator(science.get("robot", self.robots[0]))
         out, made = [], {}
         for d in (int(x) for x in designs):
             # mirror_derive: the run simulated one of each mirror pair (the lower index) and derived
@@ -349,14 +370,18 @@ class Physics(Model):
         return (
             f"{n_designs} designs {how} on the {science.get('positions_per_axis')}-point grid, "
             f"{m} weights per synapse; light distance {pr.get('light_distance', float('nan')):.4g}, "
-            f"{pr.get('steps')} steps of dt = {pr.get('dt')}, success = touching the light; body "
-            f"from the committed morphology (wheel radius {pr.get('wheel_radius', float('nan')):.4g})"
+            f"{pr.get('steps')} steps of dt = {pr.get('dt')}, success = touching the light; "
+            + (
+                "the paper authors' robot as this engine builds it (docs/authors_robot.md)"
+                if science.get("robot") == "authors"
+                else f"body from the committed morphology (wheel radius {pr.get('wheel_radius', float('nan')):.4g})"
+            )
         )
 
     def evaluate_one(
         self, l1: tuple[float, float], l2: tuple[float, float], w: np.ndarray, a: argparse.Namespace
     ) -> DesignResult:
-        path = a.morphology or self.default_morphology
+        path = a.morphology or ROBOT_BODIES[self.robots[0]]
         if not os.path.exists(path):  # a device or a FIFO exists: the bounded reader says what it is
             raise UsageError(f"--morphology {path}: no such file (a YAML of body parameters)")
         try:

@@ -1,0 +1,271 @@
+"""Does the paper's physics conclusion survive the engine? Each engine and robot against ODE with
+the authors' robot, design by design (issue 42; config/agreement.yaml; rule ``agreement``; figure
+``agreement``, notebooks/agreement.ipynb; docs/authors_robot.md).
+
+The reference is the ODE model's survey of a design grid (the authors' robot in the authors'
+engine); each candidate is another physics survey of the same designs and weights: an engine with
+the authors' robot (``robot: authors``) separates the engine from the body, the same engine with
+the project's body (the committed surveys) adds the body. Per candidate, against the reference:
+
+- Spearman's rho of M_L and of M_CF over the designs, with a seeded bootstrap 95 % interval;
+- the share of cells (design, environment, w1, w2) with the same outcome, over the designs both
+  bundles hold outcome arrays of (a survey bundle kept whole: every design);
+- the overlap of the top 10 designs by M_L and by M_CF; the share of designs with a generalist;
+- the ranks of the canonical design and of each side's best design in the other.
+
+Light imports only at module level: the Snakefile imports this module at parse time.
+"""
+
+from __future__ import annotations
+
+import json
+from dataclasses import dataclass
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+from morphlearn.grid import DesignGrid, canonical_design
+
+if TYPE_CHECKING:
+    import pandas as pd
+
+    from morphlearn.settings import Settings
+
+#: Designs compared in the top-N overlap.
+TOP = 10
+
+
+@dataclass(frozen=True)
+class Source:
+    """One survey: a committed bundle and the model whose results it holds."""
+
+    bundle: str
+    model: str
+
+    @property
+    def table(self) -> Path:
+        return Path(self.bundle) / self.model / "metrics.csv"
+
+    @property
+    def merged(self) -> Path:
+        return Path(self.bundle) / self.model / "merged.zarr"
+
+    def files(self) -> list[str]:
+        return [str(self.table), str(Path(self.bundle) / "bundle.json")]
+
+
+@dataclass(frozen=True)
+class AgreementSettings:
+    """``agreement``: the reference survey and the candidates (config_schema.yaml)."""
+
+    enabled: bool
+    reference: Source
+    candidates: tuple[Source, ...]
+
+    @classmethod
+    def of(cls, s: Settings) -> AgreementSettings:
+        # parsed here, beside its only user, as the engines stage's settings (engine_compare)
+        sec = s.source["agreement"]
+        return cls(
+            enabled=bool(sec["enabled"]),
+            reference=Source(**sec["reference"]),
+            candidates=tuple(Source(**c) for c in sec["candidates"]),
+        )
+
+    def sources(self) -> list[Source]:
+        return [self.reference, *self.candidates]
+
+    def inputs(self) -> dict[str, str]:
+        """The rule's inputs: every source's metrics table and bundle manifest."""
+        out = {}
+        for i, src in enumerate(self.sources()):
+            table, manifest = src.files()
+            out[f"s{i}_table"], out[f"s{i}_bundle"] = table, manifest
+        return out
+
+    def science(self) -> dict[str, Any]:
+        return {"reference": vars(self.reference), "candidates": [vars(c) for c in self.candidates]}
+
+
+@dataclass(frozen=True)
+class Survey:
+    """A source read and checked: its table, its science record and its outcome arrays."""
+
+    source: Source
+    table: pd.DataFrame
+    science: dict[str, Any]
+    success: dict[int, np.ndarray]  # design -> bool (4, m, m), the designs whose arrays it holds
+    thresholds: dict[str, float]
+
+    @property
+    def engine(self) -> str:
+        from morphlearn import models
+
+        return models.get(self.source.model).engine
+
+    @property
+    def robot(self) -> str:
+        from morphlearn import models
+
+        return str(self.science.get("robot", models.get(self.source.model).robots[0]))
+
+    @property
+    def label(self) -> str:
+        body = "the authors' robot" if self.robot == "authors" else "the project's body"
+        return f"{self.engine}, {body}"
+
+    def levers(self) -> str:
+        """What may make its cells differ from an exhaustive run's (the survey's own levers)."""
+        out = []
+        if ad := self.science.get("adaptive_weights"):
+            out.append(f"adaptive weight grid (near {ad.get('near')}: unsimulated cells count as failures)")
+        if self.science.get("early_stop"):
+            out.append("reach-bound early stop (exact)")
+        return "; ".join(out) or "every cell simulated"
+
+
+def read(src: Source) -> Survey:
+    """A survey from its bundle: the table checked against its record (custody), the outcome
+    arrays of every design the bundle holds."""
+    from morphlearn import bounded, metrics, provenance, store
+
+    provenance.check_derived(src.table)
+    import pandas as pd
+
+    table = pd.read_csv(src.table, comment="#")
+    ds = store.open_merged(src.merged)
+    sci = store.science_of(ds)
+    prov = bounded.json_file(src.table.parent / "metrics.provenance.json")
+    th = dict(prov["config"]["thresholds"])
+    tr = metrics.Thresholds(**th)
+    success = {}
+    for i, d in enumerate(ds.design.values.astype(int)):
+        a = store.read_design(ds, i)
+        success[int(d)] = metrics.success(a["first_time"], a["min_dist"], tr)
+    return Survey(src, table, sci, success, th)
+
+
+def _rank(table: pd.DataFrame, by: str) -> pd.Series:
+    from morphlearn import metrics
+
+    order = metrics.rank_designs(table, by).design.to_numpy()
+    import pandas as pd
+
+    return pd.Series(np.arange(1, len(order) + 1), index=order)
+
+
+def compare(ref: Survey, cand: Survey) -> dict[str, Any]:
+    """The candidate against the reference (see the module docstring)."""
+    from morphlearn.compare import spearman_ci
+
+    a = ref.table.set_index("design")
+    b = cand.table.set_index("design")
+    common = a.index.intersection(b.index)
+    if len(common) != len(a) or len(common) != len(b):
+        raise ValueError(
+            f"{cand.source.table}: {len(b)} designs, the reference {len(a)}, {len(common)} in both; "
+            "allowed: surveys of the same designs"
+        )
+    wa, wb = int(ref.science["weights"]), int(cand.science["weights"])
+    if wa != wb or ref.science["positions_per_axis"] != cand.science["positions_per_axis"]:
+        raise ValueError(f"{cand.source.table}: another weight or design grid than the reference's; allowed: the same")
+    out: dict[str, Any] = {
+        "engine": cand.engine,
+        "robot": cand.robot,
+        "label": cand.label,
+        "bundle": cand.source.bundle,
+        "model": cand.source.model,
+        "levers": cand.levers(),
+        "designs": len(common),
+    }
+    for m in ("M_L", "M_CF"):
+        r = spearman_ci(a.loc[common, m].to_numpy(), b.loc[common, m].to_numpy(), m)
+        out[f"rho_{m}"] = {"rho": r.rho, "lo": r.low, "hi": r.high}
+        ra, rb = _rank(ref.table, m), _rank(cand.table, m)
+        top_a, top_b = set(ra.index[:TOP]), set(rb.index[:TOP])
+        out[f"top{TOP}_{m}"] = len(top_a & top_b)
+        best_b = int(rb.index[0])
+        best_a = int(ra.index[0])
+        out[f"best_{m}"] = {
+            "candidate_best": best_b,
+            "its_rank_in_reference": int(ra[best_b]),
+            "reference_best": best_a,
+            "its_rank_in_candidate": int(rb[best_a]),
+        }
+    g = DesignGrid(int(ref.science["positions_per_axis"]))
+    canon = int(g.index_of(*canonical_design()))
+    out["canonical"] = {
+        "design": canon,
+        **{f"rank_{m}_reference": int(_rank(ref.table, m)[canon]) for m in ("M_L", "M_CF")},
+        **{f"rank_{m}_candidate": int(_rank(cand.table, m)[canon]) for m in ("M_L", "M_CF")},
+    }
+    out["with_generalist"] = {
+        "reference": float((a.generalists > 0).mean()),
+        "candidate": float((b.generalists > 0).mean()),
+    }
+    held = sorted(set(ref.success) & set(cand.success))
+    same = sum(int((ref.success[d] == cand.success[d]).sum()) for d in held)
+    cells = sum(int(ref.success[d].size) for d in held)
+    out["cells"] = {"designs": len(held), "cells": cells, "same": same, "share": same / cells if cells else None}
+    return out
+
+
+def numbers(s: AgreementSettings) -> dict[str, Any]:
+    ref = read(s.reference)
+    if ref.engine != "ode":
+        raise ValueError(f"agreement.reference = {s.reference.model!r}: allowed: a survey of the ode model")
+    rows = [compare(ref, read(c)) for c in s.candidates]
+    return {
+        "reference": {"bundle": s.reference.bundle, "model": s.reference.model, "label": ref.label},
+        "designs": len(ref.table),
+        "weights": int(ref.science["weights"]),
+        "positions_per_axis": int(ref.science["positions_per_axis"]),
+        "candidates": rows,
+    }
+
+
+def table(n: dict[str, Any]) -> pd.DataFrame:
+    """One row per candidate, the columns the docs and the figure quote."""
+    import pandas as pd
+
+    rows = []
+    for c in n["candidates"]:
+        rows.append(
+            {
+                "engine": c["engine"],
+                "robot": c["robot"],
+                "designs": c["designs"],
+                **{
+                    f"rho_{m}{k}": c[f"rho_{m}"][v]
+                    for m in ("M_L", "M_CF")
+                    for k, v in (("", "rho"), ("_lo", "lo"), ("_hi", "hi"))
+                },
+                "cells_same": c["cells"]["share"],
+                "cells_compared": c["cells"]["cells"],
+                f"top{TOP}_M_L": c[f"top{TOP}_M_L"],
+                f"top{TOP}_M_CF": c[f"top{TOP}_M_CF"],
+                "canonical_rank_M_L": c["canonical"]["rank_M_L_candidate"],
+                "canonical_rank_M_L_ode": c["canonical"]["rank_M_L_reference"],
+                "with_generalist": c["with_generalist"]["candidate"],
+                "with_generalist_ode": c["with_generalist"]["reference"],
+                "best_M_L_rank_in_ode": c["best_M_L"]["its_rank_in_reference"],
+                "levers": c["levers"],
+                "bundle": c["bundle"],
+            }
+        )
+    return pd.DataFrame(rows)
+
+
+def write(s: AgreementSettings, table_csv: str | Path, numbers_json: str | Path) -> dict[str, Any]:
+    """The table and the numbers; custody: their sealed record (the sources' digests and theirs)."""
+    from morphlearn import provenance, store
+
+    n = numbers(s)
+    with store.atomic_path(Path(numbers_json)) as tmp:
+        tmp.write_text(json.dumps(n, indent=1) + "\n")
+    with store.atomic_path(Path(table_csv)) as tmp:
+        table(n).to_csv(tmp, index=False)
+    rec = provenance.record(s.science(), [str(src.table) for src in s.sources()])
+    provenance.write_sealed(provenance.sidecar_of(table_csv), rec, [table_csv, numbers_json])
+    return n
