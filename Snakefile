@@ -50,6 +50,15 @@ if S.scenarios is not None:
     ALL_TARGETS = SCENARIO_TARGETS
 
 
+# agreement: each engine and robot against ODE only (render_only: its figure from the stored outputs).
+elif AGREEMENT.enabled:
+    if not RENDER_ONLY:
+
+        include: "workflow/rules/agreement.smk"
+
+    ALL_TARGETS = [f"{R}/figures/agreement.{ext}" for ext in ("png", "pdf", "html")]
+
+
 # engines: the engine comparison only (render_only: its figures from the stored outputs).
 elif ENGINES.enabled:
     if not RENDER_ONLY:

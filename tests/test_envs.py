@@ -106,9 +106,12 @@ ENGINE_CONFIGS = ("config/smoke.yaml", "eng.yaml")
 # checks is that an environment holds what a rule's script imports): rule -> that rule.
 # engines_disagreement imports what empirical_shard imports (both engines' episode runners) and
 # takes 2-3 CPU-minutes on the committed surveys: not run here (tests/test_engines.py checks its
-# committed outputs); figure_disagreement draws with figure_engines' imports.
+# committed outputs); figure_disagreement draws with figure_engines' imports. agreement imports
+# what engines_numbers (the rank statistics) and metrics (the outcome arrays) import, both run here
+# in envs/analysis.yaml, and reads committed bundles only (tests/test_agreement.py).
 SAME_SCRIPT_AND_ENV = {
     "survey_from_bundle": "empirical_from_bundle",
+    "agreement": "engines_numbers",
     "engines_disagreement": "empirical_shard",
     "figure_disagreement": "figure_engines",
 }

@@ -102,5 +102,8 @@ def figure_body() -> str:
 
 
 def physics() -> list[str]:
-    """The registered rigid-body engine models (:class:`morphlearn.physics.model.Physics`)."""
-    return [n for n, m in MODELS.items() if isinstance(m, Physics)]
+    """The registered rigid-body engine models (:class:`morphlearn.physics.model.Physics`): the
+    paper's own engine first (figures draw the first enabled one, tables answer with it first),
+    then in registry order."""
+    found = [n for n, m in MODELS.items() if isinstance(m, Physics)]
+    return sorted(found, key=lambda n: not MODELS[n].paper_engine)

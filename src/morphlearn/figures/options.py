@@ -8,7 +8,7 @@ from __future__ import annotations
 from collections.abc import Callable
 from typing import Any
 
-from morphlearn import engine_compare, models
+from morphlearn import agreement, engine_compare, models
 from morphlearn.figures.registry import FIGURES as FIGURE_SPECS
 from morphlearn.figures.registry import PHYSICS
 from morphlearn.settings import Settings
@@ -31,6 +31,7 @@ STAGES: dict[str, Callable[[Settings], bool]] = {
     "learners": lambda s: s.learners.enabled,
     "coopt": lambda s: s.coopt.enabled,
     "engines": lambda s: engine_compare.EnginesSettings.of(s).enabled,
+    "agreement": lambda s: agreement.AgreementSettings.of(s).enabled,
 }
 
 

@@ -84,6 +84,11 @@ FIGURES: dict[str, Figure] = {
             "disagreement.provenance.json",
         ),
     ),
+    # beyond the paper: each engine and robot against ODE with the authors' robot (issue 42;
+    # config/agreement.yaml; its data: rule agreement)
+    "agreement": Figure(
+        reads=(), needs="agreement", files=("agreement.csv", "agreement.json", "agreement.provenance.json")
+    ),
     # beyond the paper: theory against physics per design (issue 12; config/survey.yaml)
     "survey": Figure(reads=("theory", "empirical"), needs="empirical_survey", options=("top",), survey=True),
 }

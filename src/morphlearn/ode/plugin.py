@@ -26,6 +26,7 @@ class Ode(Physics):
     engine_label = "ODE"
     env_file = "envs/empirical.yaml"
     robots = ("authors",)
+    paper_engine = True
     resumes_inside_design = True  # ~30 core-minutes a design at 121 x 121: resume inside it
     levers_doc = "docs/ode.md"
 

@@ -77,6 +77,8 @@ class Physics(Model):
     engine_label: ClassVar[str] = ""
     #: Fig. 1C draws this engine's body (read even when the model is off, if figures are drawn).
     figure_body: ClassVar[bool] = False
+    #: The engine the paper's physics ran in (ODE): drawn and answered first where enabled.
+    paper_engine: ClassVar[bool] = False
     #: Its ``evaluate_design`` takes ``partial=`` (a design resumes inside itself, see
     #: :mod:`morphlearn.physics.partial`): the run's design cache then holds running designs too.
     resumes_inside_design: ClassVar[bool] = False

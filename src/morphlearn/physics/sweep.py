@@ -63,6 +63,8 @@ def sweep(
     ident, cells = partial_cells.resume(partial, l1, l2, w, params, options)
     first, dist, status, have = cells.first_time, cells.min_dist, cells.status, cells.simulated
     total = 4 * m * m
+    # progress counts this run's episodes against what is left (a resumed design's are done)
+    left = total - int(have.sum())
     near = options.near * params.contact_distance
     counted, saved = 0, time.monotonic()
 
@@ -78,8 +80,8 @@ def sweep(
             status[e[~ep.finite], i[~ep.finite], j[~ep.finite]] = STATUS_NONFINITE
             have[e, i, j] = True
             counted += len(e)
-            if progress is not None and counted < total:
-                progress(counted, total)
+            if progress is not None and counted < left:
+                progress(counted, left)
             if partial is not None and time.monotonic() - saved >= partial_cells.CHECKPOINT_S:
                 partial_cells.save(partial, ident, cells)
                 saved = time.monotonic()

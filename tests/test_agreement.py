@@ -1,0 +1,85 @@
+"""The agreement stage (morphlearn.agreement; issue 42): its statistics on made-up surveys whose
+answers are known, its refusals, and the committed comparison against the bundles it was made from."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+import pytest
+
+from morphlearn import agreement as ag
+from morphlearn.grid import DesignGrid, canonical_design
+
+ROOT = Path(__file__).resolve().parents[1]
+N = 5  # positions per axis: 625 designs
+
+
+def _survey(model: str, ml: np.ndarray, mcf: np.ndarray, success: dict[int, np.ndarray], **science) -> ag.Survey:
+    g = DesignGrid(N)
+    d = np.arange(g.size)
+    c = g.coords(d)
+    t = pd.DataFrame(
+        {"design": d, "l1x": c[:, 0], "l1y": c[:, 1], "l2x": c[:, 2], "l2y": c[:, 3], "M_L": ml, "M_CF": mcf}
+    )
+    t["generalists"] = np.rint(ml * 121).astype(int)
+    sci = {"weights": 11, "positions_per_axis": N, **science}
+    return ag.Survey(ag.Source(f"results/{model}", model), t, sci, success, {})
+
+
+def test_identical_surveys_agree_fully_and_a_shuffle_does_not() -> None:
+    rng = np.random.default_rng(0)
+    ml, mcf = rng.integers(0, 8, 625) / 121, rng.uniform(0, 0.5, 625)
+    cells = {d: rng.random((4, 11, 11)) < 0.1 for d in range(0, 625, 7)}
+    ref = _survey("ode", ml, mcf, cells)
+    same = ag.compare(ref, _survey("mujoco", ml, mcf, cells, robot="authors"))
+    assert same["rho_M_L"]["rho"] == pytest.approx(1.0) and same["rho_M_CF"]["rho"] == pytest.approx(1.0)
+    assert same["top10_M_L"] == 10 and same["cells"]["share"] == 1.0 and same["cells"]["designs"] == len(cells)
+    assert same["label"] == "mujoco, the authors' robot" and same["robot"] == "authors"
+    canon = DesignGrid(N).index_of(*canonical_design())
+    assert same["canonical"]["design"] == canon
+    assert same["canonical"]["rank_M_L_reference"] == same["canonical"]["rank_M_L_candidate"]
+    # an unrelated survey: rho near 0 with an interval that holds 0; half the flipped cells differ
+    flipped = {d: ~a for d, a in cells.items()}
+    other = ag.compare(ref, _survey("empirical", rng.permutation(ml), rng.permutation(mcf), flipped))
+    assert other["rho_M_CF"]["lo"] < 0 < other["rho_M_CF"]["hi"]
+    assert other["cells"]["share"] == 0.0 and other["robot"] == "project"
+    assert other["label"] == "pybullet, the project's body"
+
+
+def test_levers_and_refusals() -> None:
+    z = np.random.default_rng(1).uniform(0, 0.1, 625)
+    ref = _survey("ode", z, z, {})
+    adaptive = _survey("mujoco", z, z, {}, adaptive_weights={"near": 4.0}, early_stop=True)
+    row = ag.compare(ref, adaptive)
+    assert "adaptive weight grid (near 4.0" in row["levers"] and "early stop" in row["levers"]
+    assert row["cells"]["share"] is None  # no outcome arrays in common: said, not 0
+    with pytest.raises(ValueError, match="another weight or design grid"):
+        ag.compare(ref, _survey("mujoco", z, z, {}, weights=121))
+    short = _survey("mujoco", z, z, {})
+    short = ag.Survey(short.source, short.table.iloc[:600], short.science, {}, {})
+    with pytest.raises(ValueError, match="600 designs, the reference 625"):
+        ag.compare(ref, short)
+
+
+COMMITTED = ROOT / "results" / "agreement" / "agreement.json"
+
+
+@pytest.mark.skipif(not COMMITTED.is_file(), reason="results/agreement not committed yet")
+def test_committed_numbers_are_the_bundles() -> None:
+    """The committed comparison is what its bundles give now (custody checked on every read)."""
+    s = ag.AgreementSettings(
+        True,
+        ag.Source("results/authors-engines", "ode"),
+        tuple(ag.Source(c["bundle"], c["model"]) for c in json.loads(COMMITTED.read_text())["candidates"]),
+    )
+    import os
+
+    cwd = os.getcwd()
+    os.chdir(ROOT)
+    try:
+        assert ag.numbers(s) == json.loads(COMMITTED.read_text())
+    finally:
+        os.chdir(cwd)
