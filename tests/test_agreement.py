@@ -83,3 +83,42 @@ def test_committed_numbers_are_the_bundles() -> None:
         assert ag.numbers(s) == json.loads(COMMITTED.read_text())
     finally:
         os.chdir(cwd)
+
+
+def _ode_config(designs: object, **extra: object) -> object:
+    from morphlearn import config, configure
+
+    cfg = config.read(ROOT / "config.yaml")
+    cfg.update(results_dir="results/x", figures={"enabled": False}, empirical={"enabled": False})
+    cfg["theory"] = {**cfg["theory"], "enabled": False}
+    cfg["ode"] = {"enabled": True, "weights": 3, "designs": designs, **extra}
+    cwd = Path.cwd()
+    import os
+
+    os.chdir(ROOT)
+    try:
+        return configure.parse(cfg)
+    finally:
+        os.chdir(cwd)
+
+
+def test_designs_top_of_a_screening_survey() -> None:
+    """``designs: {top_of: ...}``: the n best of a committed survey (and their mirror images)."""
+    from morphlearn import metrics, models
+
+    pytest.importorskip("morphlearn.ode._core")
+    top = {"bundle": "results/survey-mujoco", "model": "mujoco", "by": "M_L", "n": 3}
+    s = _ode_config({"top_of": top})
+    table = pd.read_csv(ROOT / "results/survey-mujoco/mujoco/metrics.csv", comment="#")
+    best = metrics.rank_designs(table, "M_L").design.head(3).to_numpy()
+    g = DesignGrid(N)
+    want = sorted({int(d) for d in np.concatenate([best, g.mirror(best)])})
+    assert list(models.get("ode").settings(s).held) == want
+    s = _ode_config({"top_of": top}, include_mirrors=False)
+    assert list(models.get("ode").settings(s).held) == sorted(int(d) for d in best)
+    from morphlearn.config import ConfigError
+
+    with pytest.raises(ConfigError, match=r"ode\.designs\.top_of: results/nowhere/mujoco/metrics\.csv"):
+        _ode_config({"top_of": {**top, "bundle": "results/nowhere"}})
+    with pytest.raises(ConfigError, match=r"ode\.designs"):
+        _ode_config({"top_of": {**top, "by": "speed"}})

@@ -83,7 +83,7 @@ from morphlearn.grid import light_positions
 from morphlearn.physics import authors as robot
 from morphlearn.physics.options import SweepOptions
 from morphlearn.physics.params import BODY_SIZE, EmpiricalParams
-from morphlearn.physics.sweep import sweep
+from morphlearn.physics.sweep import sweep, without_reach_bound
 from morphlearn.results import DesignResult
 
 Point = tuple[float, float]
@@ -323,9 +323,7 @@ def evaluate_design(
     """All (env, w1, w2) episodes of one design; arrays (4, m, m) [env, i_w1, i_w2]: the physics
     layer's sweep (:func:`morphlearn.physics.sweep.sweep`: adaptive grid, resume from ``partial``)
     over this runner's batches."""
-    options = options or SweepOptions()
-    if options.early_stop:
-        raise ValueError("early_stop (the reach bound) is not available for the authors' robot; allowed: false")
+    options = without_reach_bound(options, "for the authors' robot")
     p1, p2 = _point("l1", l1), _point("l2", l2)
     with AuthorsEpisodeRunner(params) as runner:
         return sweep(

@@ -54,6 +54,13 @@ class Episodes:
     def success(self) -> np.ndarray:
         return ~np.isnan(self.first_time)
 
+    @classmethod
+    def joined(cls, parts: list[Episodes]) -> Episodes:
+        """The outcomes of consecutive batches as one."""
+        if len(parts) == 1:
+            return parts[0]
+        return cls(*(np.concatenate([getattr(q, f) for q in parts]) for f in cls.__dataclass_fields__))
+
 
 def lower_times(b: ReachBound, d: np.ndarray, u: np.ndarray) -> np.ndarray:
     """:meth:`ReachBound.lower_time` for arrays of distances ``d`` and speeds ``u`` (same floats:
@@ -139,9 +146,7 @@ class BatchRunner:
             )
             for a in range(0, n, CHUNK)
         ]
-        if len(parts) == 1:
-            return parts[0]
-        return Episodes(*(np.concatenate([getattr(q, f) for q in parts]) for f in Episodes.__dataclass_fields__))
+        return Episodes.joined(parts)
 
     def _run(
         self,

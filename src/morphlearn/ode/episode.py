@@ -22,7 +22,7 @@ import numpy as np
 from morphlearn.ode.core import run
 from morphlearn.physics.options import SweepOptions
 from morphlearn.physics.params import EmpiricalParams
-from morphlearn.physics.sweep import sweep
+from morphlearn.physics.sweep import sweep, without_reach_bound
 from morphlearn.results import DesignResult
 
 Point = tuple[float, float]
@@ -42,9 +42,7 @@ def evaluate_design(
     """All (env, w1, w2) episodes of one design; arrays (4, m, m) [env, i_w1, i_w2]: the physics
     layer's sweep (:func:`morphlearn.physics.sweep.sweep`: adaptive grid, resume from ``partial``)
     over this engine's batches."""
-    options = options or SweepOptions()
-    if options.early_stop:
-        raise ValueError("early_stop (the reach bound) is not available in the ode model; allowed: false")
+    options = without_reach_bound(options, "in the ode model")
 
     def batch(w: np.ndarray, env: np.ndarray) -> SimpleNamespace:
         ep, _ = run(params, l1, l2, w, env)

@@ -178,6 +178,11 @@ class Physics(Model):
         designs = sec.get("designs", "all")
         if designs == "all":
             return list(range(g.size))
+        if isinstance(designs, Mapping):  # {top_of: ...}: the best of a screening survey
+            idx = self._screened(designs["top_of"], g)
+            if sec.get("include_mirrors", True):
+                idx = np.concatenate([idx, g.mirror(idx)])
+            return sorted({int(x) for x in idx})
         idx = []
         for i, (l1, l2) in enumerate(designs):
             try:
@@ -188,6 +193,27 @@ class Physics(Model):
         if sec.get("include_mirrors", True):
             d = np.concatenate([d, g.mirror(d)])
         return sorted({int(x) for x in d})
+
+    def _screened(self, top: Mapping[str, Any], g: DesignGrid) -> np.ndarray:
+        """``designs: {top_of: {bundle, model, by, n}}``: the ``n`` best designs by ``by`` of a
+        committed survey of the same grid (screen with a cheaper engine, refine with this one;
+        its table is checked against the bundle's record; ties as :func:`metrics.rank_designs`)."""
+        import pandas as pd
+
+        from morphlearn import metrics, provenance
+
+        key = f"{self.name}.designs.top_of"
+        path = Path(top["bundle"]) / top["model"] / "metrics.csv"
+        try:
+            provenance.check_derived(path)
+            table = pd.read_csv(path, comment="#")
+        except (OSError, ValueError) as e:
+            raise ConfigError(f"{key}: {path}: {str(e).splitlines()[0]}; allowed: a committed survey bundle") from None
+        if len(table) != g.size:
+            raise ConfigError(
+                f"{key}: {path} holds {len(table)} designs; allowed: a survey of every design of this grid ({g.size})"
+            )
+        return metrics.rank_designs(table, top["by"]).design.head(top["n"]).to_numpy(dtype=np.int64)
 
     def _check_designs(self, sec: Mapping[str, Any], simulated: list[int]) -> None:
         if sec.get("mirror_derive") and sec.get("designs") != "all" and not sec.get("include_mirrors", True):

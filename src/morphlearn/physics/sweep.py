@@ -103,3 +103,14 @@ def sweep(
     if progress is not None:
         progress(total, total)
     return DesignResult(first_time=first, min_dist=dist, status=status)
+
+
+def without_reach_bound(options: SweepOptions | None, where: str) -> SweepOptions:
+    """The sweep options of an engine or robot the reach bound was not derived for (it was for the
+    project's body): ``early_stop`` refused, naming ``where``; every episode stops at its first
+    success instead, which changes no outcome."""
+    options = options or SweepOptions()
+    if options.early_stop:
+        raise ValueError(f"early_stop (the reach bound) is not available {where}; allowed: false")
+    return options
+
