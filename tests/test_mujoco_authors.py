@@ -134,3 +134,20 @@ def test_evaluate_design_runs_the_sweep() -> None:
     r = evaluate_design(*CANONICAL, np.linspace(-1, 1, 3), short)
     assert r.first_time.shape == (4, 3, 3) and np.isnan(r.first_time).all()  # 10 s: too short to arrive
     assert np.isfinite(r.min_dist).all()
+
+
+def test_design_command_takes_the_robot(capsys: pytest.CaptureFixture) -> None:
+    import json
+
+    from morphlearn import cli
+
+    args = ["design", "--l1", "0.5", "0.5", "--l2", "0.5", "-0.5", "--weights", "2", "--json"]
+    assert cli.main([*args, "--model", "mujoco", "--robot", "authors"]) in (0, None)
+    out = json.loads(capsys.readouterr().out)
+    assert out["model"] == "mujoco" and out["robot"] == "authors"
+    assert cli.main([*args, "--model", "ode", "--robot", "project"]) == 2
+    err = capsys.readouterr().err
+    assert "--robot project: the ode model builds authors" in err and len(err.splitlines()) == 1
+    assert cli.main([*args, "--model", "theory", "--robot", "authors"]) == 2
+    err = capsys.readouterr().err
+    assert "--robot: option of the empirical, mujoco and ode models; the theory model takes" in err

@@ -80,19 +80,25 @@ def cmd_design(a: argparse.Namespace) -> int:
     model = models.get(a.model)
     model.check_cli(a)
     # another model's options are refused rather than silently ignored
-    others = {o: n for n, m in models.MODELS.items() for o in m.cli_options if o not in model.cli_options}
+    others: dict[str, list[str]] = {}
+    for n, m in models.MODELS.items():
+        for o in m.cli_options:
+            if o not in model.cli_options:
+                others.setdefault(o, []).append(n)
     given = [o for o in others if getattr(a, o) is not None]
     if given:
-        owners = sorted({others[o] for o in given})
+        owners = sorted({n for o in given for n in others[o]})
         takes = ", ".join(f"--{o}" for o in model.cli_options) or "no model options"
         raise UsageError(
             f"{', '.join(f'--{o}' for o in given)}: option{'s' if len(given) > 1 else ''} of the "
-            f"{' and '.join(owners)} model; the {a.model} model takes {takes}"
+            f"{', '.join(owners[:-1]) + ' and ' if len(owners) > 1 else ''}{owners[-1]} "
+            f"model{'s' if len(owners) > 1 else ''}; the {a.model} model takes {takes}"
         )
     res = model.evaluate_one(l1, l2, gridmod.weights(a.weights), a)
     dm = design_metrics(~np.isnan(res.first_time), res.status)
     out = {
         "model": a.model,
+        **({"robot": model.cli_robot(a)} if hasattr(model, "cli_robot") else {}),
         "design": {"l1": list(l1), "l2": list(l2)},
         "weights": a.weights,
         "per_env": dm.per_env,
@@ -351,6 +357,13 @@ def build_parser() -> argparse.ArgumentParser:
         help="physics models: body parameters YAML (default: "
         + "; ".join(f"{n}: {ROBOT_BODIES[m.robots[0]]}" for n, m in MODELS.items() if hasattr(m, "robots"))
         + ")",
+    )
+    d.add_argument(
+        "--robot",
+        default=None,
+        choices=sorted(ROBOT_BODIES),
+        help="physics models: which robot the engine builds (default: the engine's own; ode: authors; "
+        "docs/authors_robot.md)",
     )
     d.add_argument("--json", action="store_true", help="print one JSON object")
     d.set_defaults(func=cmd_design)

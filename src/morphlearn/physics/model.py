@@ -82,7 +82,7 @@ class Physics(Model):
     #: Its ``evaluate_design`` takes ``partial=`` (a design resumes inside itself, see
     #: :mod:`morphlearn.physics.partial`): the run's design cache then holds running designs too.
     resumes_inside_design: ClassVar[bool] = False
-    cli_options = ("morphology",)
+    cli_options = ("morphology", "robot")
     path_keys = ("morphology", "results_from")
     schema_like = "empirical"  # the physics section's keys (config_schema.yaml)
     #: The robots this engine builds (keys of ROBOT_BODIES); the first is the default.
@@ -409,7 +409,8 @@ class Physics(Model):
     def evaluate_one(
         self, l1: tuple[float, float], l2: tuple[float, float], w: np.ndarray, a: argparse.Namespace
     ) -> DesignResult:
-        path = a.morphology or ROBOT_BODIES[self.robots[0]]
+        robot = self.cli_robot(a)
+        path = a.morphology or ROBOT_BODIES[robot]
         if not os.path.exists(path):  # a device or a FIFO exists: the bounded reader says what it is
             raise UsageError(f"--morphology {path}: no such file (a YAML of body parameters)")
         try:
@@ -417,4 +418,11 @@ class Physics(Model):
         except ValueError as e:
             raise UsageError(f"--morphology {path}: {e}") from None
         with c_stdout_to_stderr():  # pybullet's banner
-            return self.design_evaluator()(l1, l2, w, params)
+            return self.robot_evaluator(robot)(l1, l2, w, params)
+
+    def cli_robot(self, a: argparse.Namespace) -> str:
+        """``--robot``, checked against the robots this engine builds (default: its first)."""
+        robot = a.robot or self.robots[0]
+        if robot not in self.robots:
+            raise UsageError(f"--robot {robot}: the {self.name} model builds {', '.join(self.robots)}")
+        return robot

@@ -113,4 +113,3 @@ def without_reach_bound(options: SweepOptions | None, where: str) -> SweepOption
     if options.early_stop:
         raise ValueError(f"early_stop (the reach bound) is not available {where}; allowed: false")
     return options
-
