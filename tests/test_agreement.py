@@ -37,7 +37,7 @@ def test_identical_surveys_agree_fully_and_a_shuffle_does_not() -> None:
     same = ag.compare(ref, _survey("mujoco", ml, mcf, cells, robot="authors"))
     assert same["rho_M_L"]["rho"] == pytest.approx(1.0) and same["rho_M_CF"]["rho"] == pytest.approx(1.0)
     assert same["top10_M_L"] == 10 and same["cells"]["share"] == 1.0 and same["cells"]["designs"] == len(cells)
-    assert same["label"] == "mujoco, the authors' robot" and same["robot"] == "authors"
+    assert same["label"] == "MuJoCo, the authors' robot" and same["robot"] == "authors"
     canon = DesignGrid(N).index_of(*canonical_design())
     assert same["canonical"]["design"] == canon
     assert same["canonical"]["rank_M_L_reference"] == same["canonical"]["rank_M_L_candidate"]

@@ -112,8 +112,11 @@ class Survey:
 
     @property
     def label(self) -> str:
+        from morphlearn import models
+
+        m = models.get(self.source.model)
         body = "the authors' robot" if self.robot == "authors" else "the project's body"
-        return f"{self.engine}, {body}"
+        return f"{getattr(m, 'engine_label', '') or self.engine}, {body}"
 
     def levers(self) -> str:
         """What may make its cells differ from an exhaustive run's (the survey's own levers)."""
