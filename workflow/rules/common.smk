@@ -182,6 +182,9 @@ def figure_parameters(fig):
         },
         default_flow_style=True,
         width=10**6,
+        # in the order given: the notebooks draw the first physics model of `physics` (the
+        # paper's engine first), which sorted keys would turn into the alphabetical first
+        sort_keys=False,
     ).strip()
 
 
