@@ -38,6 +38,9 @@ def test_identical_surveys_agree_fully_and_a_shuffle_does_not() -> None:
     assert same["rho_M_L"]["rho"] == pytest.approx(1.0) and same["rho_M_CF"]["rho"] == pytest.approx(1.0)
     assert same["top10_M_L"] == 10 and same["cells"]["share"] == 1.0 and same["cells"]["designs"] == len(cells)
     assert same["label"] == "MuJoCo, the authors' robot" and same["robot"] == "authors"
+    # as a screen: its 10 best and their mirror images hold the reference's 10 best
+    assert same["screen"]["reference_best_missed"] == [] and 10 <= same["screen"]["designs_refined"] <= 20
+    assert "saved" not in same["screen"]  # no run cost recorded for these made-up bundles
     canon = DesignGrid(N).index_of(*canonical_design())
     assert same["canonical"]["design"] == canon
     assert same["canonical"]["rank_M_L_reference"] == same["canonical"]["rank_M_L_candidate"]
@@ -46,6 +49,7 @@ def test_identical_surveys_agree_fully_and_a_shuffle_does_not() -> None:
     other = ag.compare(ref, _survey("empirical", rng.permutation(ml), rng.permutation(mcf), flipped))
     assert other["rho_M_CF"]["lo"] < 0 < other["rho_M_CF"]["hi"]
     assert other["cells"]["share"] == 0.0 and other["robot"] == "project"
+    assert len(other["screen"]["reference_best_missed"]) > 5  # a shuffled screen finds few of them
     assert other["label"] == "pybullet, the project's body"
 
 

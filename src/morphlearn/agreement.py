@@ -207,10 +207,42 @@ def compare(ref: Survey, cand: Survey) -> dict[str, Any]:
         "reference": float((a.generalists > 0).mean()),
         "candidate": float((b.generalists > 0).mean()),
     }
+    out["screen"] = screen(ref, cand)
     held = sorted(set(ref.success) & set(cand.success))
     same = sum(int((ref.success[d] == cand.success[d]).sum()) for d in held)
     cells = sum(int(ref.success[d].size) for d in held)
     out["cells"] = {"designs": len(held), "cells": cells, "same": same, "share": same / cells if cells else None}
+    return out
+
+
+def shard_cpu(src: Source) -> float | None:
+    """CPU seconds of a survey's shard jobs by its bundle's run cost (None: not recorded there)."""
+    import pandas as pd
+
+    path = Path(src.bundle) / "run_cost.csv"
+    if not path.is_file():
+        return None
+    cost = pd.read_csv(path)
+    rows = cost[cost.job.str.startswith(f"{src.model}/shard")]
+    return float(rows.cpu_s.sum()) if len(rows) else None
+
+
+def screen(ref: Survey, cand: Survey, n: int = TOP) -> dict[str, Any]:
+    """The candidate as a screen for the reference (config/ode_screened.yaml's strategy): its ``n``
+    best designs by M_L and their mirror images simulated in the reference engine. Which of the
+    reference's ``n`` best it would miss, and its cost against the reference's survey of every
+    design (CPU of the shard jobs by each bundle's run cost; the refined designs at the
+    reference's mean CPU per design)."""
+    g = DesignGrid(int(ref.science["positions_per_axis"]))
+    picked = set(_rank(cand.table, "M_L").index[:n].astype(int))
+    picked |= {int(g.mirror(d)) for d in picked}
+    best = [int(d) for d in _rank(ref.table, "M_L").index[:n]]
+    missed = [d for d in best if d not in picked]
+    c_ref, c_cand = shard_cpu(ref.source), shard_cpu(cand.source)
+    out: dict[str, Any] = {"n": n, "designs_refined": len(picked), "reference_best_missed": missed}
+    if c_ref is not None and c_cand is not None:
+        refine = c_ref * len(picked) / len(ref.table)
+        out.update(cpu_s_reference=c_ref, cpu_s_screen=c_cand, cpu_s_refine=refine, saved=1 - (c_cand + refine) / c_ref)
     return out
 
 
