@@ -49,7 +49,7 @@ def paper_sources() -> list[str]:
     import yaml
 
     cfg = yaml.safe_load((ROOT / "config/paper.yaml").read_text())
-    found = [(cfg.get(m) or {}).get("results_from") for m in ("theory", "empirical", "mujoco")]
+    found = [(sec or {}).get("results_from") for sec in cfg.values() if isinstance(sec, dict)]
     found.append((cfg.get("survey_from") or {}).get("bundle"))
     return sorted({p for p in found if p and p != "results/paper"})
 
