@@ -9,6 +9,8 @@ from morphlearn.cli import main
 
 #: What ``morphlearn design --json`` prints: the design and model it evaluated, then the metrics.
 DESIGN_JSON_KEYS = {"model", "design", "weights", "per_env", "generalists", "at_least_one", "M_L", "M_CF", "flagged"}
+#: a physics model's JSON also names the robot it built (docs/authors_robot.md)
+PHYSICS_JSON_KEYS = DESIGN_JSON_KEYS | {"robot"}
 
 
 def test_design_json_has_exactly_the_documented_keys(capsys: pytest.CaptureFixture) -> None:
@@ -64,7 +66,7 @@ def test_empirical_design_json_is_clean_stdout() -> None:
     )
     assert proc.returncode == 0, proc.stderr
     out = json.loads(proc.stdout)
-    assert set(out) == DESIGN_JSON_KEYS
+    assert set(out) == PHYSICS_JSON_KEYS and out["robot"] == "project"
     assert (out["model"], out["design"], out["weights"]) == ("empirical", {"l1": [0.5, 0.5], "l2": [0.5, -0.5]}, 2)
     assert out["generalists"] >= 1  # w = (1, 1) reaches all four lights with the committed body
 
