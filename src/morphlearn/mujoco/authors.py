@@ -35,7 +35,7 @@ from typing import Any
 import numpy as np
 
 from morphlearn.grid import light_positions
-from morphlearn.mujoco.episode import CHUNK, Episodes
+from morphlearn.mujoco.episode import CHUNK, Episodes, batch_inputs
 from morphlearn.mujoco.model import (
     LEFT,
     NO_COLLISION,
@@ -141,14 +141,8 @@ class AuthorsBatchRunner:
         ``env`` (n,); ``path`` as :meth:`BatchRunner.run`'s."""
         l1 = tuple(float(v) for v in np.asarray(l1, dtype=np.float64).reshape(2))
         l2 = tuple(float(v) for v in np.asarray(l2, dtype=np.float64).reshape(2))
-        w = np.atleast_2d(np.asarray(w, dtype=np.float64))
-        n = len(w)
-        env = np.broadcast_to(np.asarray(env, dtype=np.int64), (n,))
-        if w.shape != (n, 2) or np.any((env < 0) | (env > 3)):
-            raise ValueError(f"weights must be (n, 2) and env in 0..3; got {w.shape}, env {np.unique(env)}")
-        if path is not None and n > CHUNK:
-            raise ValueError(f"path records at most CHUNK = {CHUNK} episodes at once; got {n}")
-        parts = [self._run(l1, l2, w[a : a + CHUNK], env[a : a + CHUNK], path) for a in range(0, n, CHUNK)]
+        w, env = batch_inputs(w, env, path)
+        parts = [self._run(l1, l2, w[a : a + CHUNK], env[a : a + CHUNK], path) for a in range(0, len(w), CHUNK)]
         return Episodes.joined(parts)
 
     def _run(

@@ -86,6 +86,18 @@ def _below(b: ReachBound, i: np.ndarray, mu: np.ndarray) -> np.ndarray:
     return np.where(mu <= 0.0, t_i, np.where(mu >= b.speed[0], fast, np.where(j > i, t_i, mid)))
 
 
+def batch_inputs(w: Any, env: Any, path: list[np.ndarray] | None) -> tuple[np.ndarray, np.ndarray]:
+    """A batch's weights (n, 2) and environments (n,), checked (both robots' runners)."""
+    w = np.atleast_2d(np.asarray(w, dtype=np.float64))
+    n = len(w)
+    env = np.broadcast_to(np.asarray(env, dtype=np.int64), (n,))
+    if w.shape != (n, 2) or np.any((env < 0) | (env > 3)):
+        raise ValueError(f"weights must be (n, 2) and env in 0..3; got {w.shape}, env {np.unique(env)}")
+    if path is not None and n > CHUNK:
+        raise ValueError(f"path records at most CHUNK = {CHUNK} episodes at once; got {n}")
+    return w, env
+
+
 class BatchRunner:
     """Runs batches of episodes of one body (params + settings) on ``nthread`` threads."""
 
@@ -124,15 +136,10 @@ class BatchRunner:
         (a list; at most ``CHUNK`` episodes), an (n, 2) array of the body centres (x, y) observed
         at each step is appended to it per step, NaN for episodes already stopped (for drawing;
         the episodes are unchanged)."""
-        w = np.atleast_2d(np.asarray(w, dtype=np.float64))
+        w, env = batch_inputs(w, env, path)
         n = len(w)
-        env = np.broadcast_to(np.asarray(env, dtype=np.int64), (n,))
         l1 = np.broadcast_to(np.asarray(l1, dtype=np.float64), (n, 2))
         l2 = np.broadcast_to(np.asarray(l2, dtype=np.float64), (n, 2))
-        if w.shape != (n, 2) or np.any((env < 0) | (env > 3)):
-            raise ValueError(f"weights must be (n, 2) and env in 0..3; got {w.shape}, env {np.unique(env)}")
-        if path is not None and n > CHUNK:
-            raise ValueError(f"path records at most CHUNK = {CHUNK} episodes at once; got {n}")
         parts = [
             self._run(
                 l1[a : a + CHUNK],
