@@ -25,6 +25,9 @@ def _survey(model: str, ml: np.ndarray, mcf: np.ndarray, success: dict[int, np.n
         {"design": d, "l1x": c[:, 0], "l1y": c[:, 1], "l2x": c[:, 2], "l2y": c[:, 3], "M_L": ml, "M_CF": mcf}
     )
     t["generalists"] = np.rint(ml * 121).astype(int)
+    # cells solved per environment: a generalist solves all four; a made-up share of the others
+    for k, env in enumerate((45, 135, 225, 315)):
+        t[f"n_{env}"] = t.generalists + np.rint(mcf * 40 * (k + 1)).astype(int)
     sci = {"weights": 11, "positions_per_axis": N, **science}
     return ag.Survey(ag.Source(f"results/{model}", model), t, sci, success, {})
 
@@ -37,6 +40,7 @@ def test_identical_surveys_agree_fully_and_a_shuffle_does_not() -> None:
     same = ag.compare(ref, _survey("mujoco", ml, mcf, cells, robot="authors"))
     assert same["rho_M_L"]["rho"] == pytest.approx(1.0) and same["rho_M_CF"]["rho"] == pytest.approx(1.0)
     assert same["top10_M_L"] == 10 and same["cells"]["share"] == 1.0 and same["cells"]["designs"] == len(cells)
+    assert same["rho_solved"]["rho"] == pytest.approx(1.0)
     assert same["label"] == "MuJoCo, the authors' robot" and same["robot"] == "authors"
     # as a screen: its 10 best and their mirror images hold the reference's 10 best
     assert same["screen"]["reference_best_missed"] == [] and 10 <= same["screen"]["designs_refined"] <= 20
@@ -51,6 +55,30 @@ def test_identical_surveys_agree_fully_and_a_shuffle_does_not() -> None:
     assert other["cells"]["share"] == 0.0 and other["robot"] == "project"
     assert len(other["screen"]["reference_best_missed"]) > 5  # a shuffled screen finds few of them
     assert other["label"] == "pybullet, the project's body"
+
+
+def test_ties_at_zero_are_not_best() -> None:
+    """Most designs without a generalist (ODE at 11 x 11): the top lists and the screen count only
+    designs with a positive value, and the bootstrap interval is still defined (the resamples in
+    which a side is constant, rho undefined, are dropped, not made NaN)."""
+    ml = np.zeros(625)
+    ml[[3, 40, 77, 300, 620]] = [5, 4, 3, 2, 1]
+    ml /= 121
+    mcf = ml / 2
+    ref = _survey("ode", ml, mcf, {})
+    row = ag.compare(ref, _survey("mujoco", ml, mcf, {}))
+    assert row["top10_M_L_sizes"] == {"reference": 5, "candidate": 5} and row["top10_M_L"] == 5
+    assert row["screen"]["reference_best"] == [3, 40, 77, 300, 620]
+    assert row["screen"]["reference_best_missed"] == []
+    lo, hi = row["rho_M_L"]["lo"], row["rho_M_L"]["hi"]
+    assert np.isfinite(lo) and np.isfinite(hi) and lo <= row["rho_M_L"]["rho"] <= hi
+    other = ml.copy()
+    other[[3, 40]] = 0  # the candidate loses the reference's two best
+    row = ag.compare(ref, _survey("mujoco", other, other / 2, {}))
+    assert row["top10_M_L"] == 3 and row["top10_M_L_sizes"]["candidate"] == 3
+    refined = {77, 300, 620} | {int(DesignGrid(N).mirror(d)) for d in (77, 300, 620)}
+    assert row["screen"]["designs_refined"] == len(refined)
+    assert row["screen"]["reference_best_missed"] == [d for d in (3, 40) if d not in refined]
 
 
 def test_levers_and_refusals() -> None:

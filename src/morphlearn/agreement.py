@@ -7,10 +7,14 @@ engine); each candidate is another physics survey of the same designs and weight
 the authors' robot (``robot: authors``) separates the engine from the body, the same engine with
 the project's body (the committed surveys) adds the body. Per candidate, against the reference:
 
-- Spearman's rho of M_L and of M_CF over the designs, with a seeded bootstrap 95 % interval;
+- Spearman's rho of M_L and of M_CF over the designs, with a seeded bootstrap 95 % interval, and
+  of the cells each design solves (successes over its environments and controllers): at a coarse
+  weight grid most designs have no generalist in ODE, so M_L and M_CF are mostly ties at 0 and the
+  solved cells are the measure that still orders every design;
 - the share of cells (design, environment, w1, w2) with the same outcome, over the designs both
   bundles hold outcome arrays of (a survey bundle kept whole: every design);
-- the overlap of the top 10 designs by M_L and by M_CF; the share of designs with a generalist;
+- the overlap of the top 10 designs by M_L and by M_CF, counting only designs with a positive value
+  (designs tied at 0 are not "best" on either side); the share of designs with a generalist;
 - the ranks of the canonical design and of each side's best design in the other.
 
 Light imports only at module level: the Snakefile imports this module at parse time.
@@ -149,6 +153,11 @@ def read(src: Source) -> Survey:
     return Survey(src, table, sci, success, th)
 
 
+def solved(table: pd.DataFrame) -> pd.Series:
+    """Cells each design solves: its successes summed over the environments (``n_<angle>``)."""
+    return table.filter(regex=r"^n_\d+$").sum(axis=1)
+
+
 def _rank(table: pd.DataFrame, by: str) -> pd.Series:
     from morphlearn import metrics
 
@@ -160,6 +169,7 @@ def _rank(table: pd.DataFrame, by: str) -> pd.Series:
 
 def compare(ref: Survey, cand: Survey) -> dict[str, Any]:
     """The candidate against the reference (see the module docstring)."""
+    from morphlearn import metrics
     from morphlearn.compare import spearman_ci
 
     a = ref.table.set_index("design")
@@ -186,8 +196,9 @@ def compare(ref: Survey, cand: Survey) -> dict[str, Any]:
         r = spearman_ci(a.loc[common, m].to_numpy(), b.loc[common, m].to_numpy(), m)
         out[f"rho_{m}"] = {"rho": r.rho, "lo": r.low, "hi": r.high}
         ra, rb = _rank(ref.table, m), _rank(cand.table, m)
-        top_a, top_b = set(ra.index[:TOP]), set(rb.index[:TOP])
-        out[f"top{TOP}_{m}"] = len(top_a & top_b)
+        top_a, top_b = metrics.best_designs(ref.table, m, TOP), metrics.best_designs(cand.table, m, TOP)
+        out[f"top{TOP}_{m}"] = len(set(top_a) & set(top_b))
+        out[f"top{TOP}_{m}_sizes"] = {"reference": len(top_a), "candidate": len(top_b)}
         best_b = int(rb.index[0])
         best_a = int(ra.index[0])
         out[f"best_{m}"] = {
@@ -196,6 +207,8 @@ def compare(ref: Survey, cand: Survey) -> dict[str, Any]:
             "reference_best": best_a,
             "its_rank_in_candidate": int(rb[best_a]),
         }
+    r = spearman_ci(solved(a.loc[common]).to_numpy(), solved(b.loc[common]).to_numpy(), "solved")
+    out["rho_solved"] = {"rho": r.rho, "lo": r.low, "hi": r.high}
     g = DesignGrid(int(ref.science["positions_per_axis"]))
     canon = int(g.index_of(*canonical_design()))
     out["canonical"] = {
@@ -230,16 +243,24 @@ def shard_cpu(src: Source) -> float | None:
 def screen(ref: Survey, cand: Survey, n: int = TOP) -> dict[str, Any]:
     """The candidate as a screen for the reference (config/ode_screened.yaml's strategy): its ``n``
     best designs by M_L and their mirror images simulated in the reference engine. Which of the
-    reference's ``n`` best it would miss, and its cost against the reference's survey of every
-    design (CPU of the shard jobs by each bundle's run cost; the refined designs at the
-    reference's mean CPU per design)."""
+    reference's ``n`` best it would miss (both sides' best: :func:`metrics.best_designs`, designs
+    with a generalist), and its cost against the reference's survey of every design (CPU of the
+    shard jobs by each bundle's run cost; the refined designs at the reference's mean CPU per
+    design)."""
+    from morphlearn import metrics
+
     g = DesignGrid(int(ref.science["positions_per_axis"]))
-    picked = set(_rank(cand.table, "M_L").index[:n].astype(int))
+    picked = set(metrics.best_designs(cand.table, "M_L", n))  # with a generalist: ties at 0 rank nothing
     picked |= {int(g.mirror(d)) for d in picked}
-    best = [int(d) for d in _rank(ref.table, "M_L").index[:n]]
+    best = metrics.best_designs(ref.table, "M_L", n)
     missed = [d for d in best if d not in picked]
     c_ref, c_cand = shard_cpu(ref.source), shard_cpu(cand.source)
-    out: dict[str, Any] = {"n": n, "designs_refined": len(picked), "reference_best_missed": missed}
+    out: dict[str, Any] = {
+        "n": n,
+        "designs_refined": len(picked),
+        "reference_best": best,
+        "reference_best_missed": missed,
+    }
     if c_ref is not None and c_cand is not None:
         refine = c_ref * len(picked) / len(ref.table)
         out.update(cpu_s_reference=c_ref, cpu_s_screen=c_cand, cpu_s_refine=refine, saved=1 - (c_cand + refine) / c_ref)
@@ -276,6 +297,9 @@ def table(n: dict[str, Any]) -> pd.DataFrame:
                     for m in ("M_L", "M_CF")
                     for k, v in (("", "rho"), ("_lo", "lo"), ("_hi", "hi"))
                 },
+                "rho_solved": c["rho_solved"]["rho"],
+                "rho_solved_lo": c["rho_solved"]["lo"],
+                "rho_solved_hi": c["rho_solved"]["hi"],
                 "cells_same": c["cells"]["share"],
                 "cells_compared": c["cells"]["cells"],
                 f"top{TOP}_M_L": c[f"top{TOP}_M_L"],

@@ -9,6 +9,7 @@ which Spearman's rho handles by mid-ranks.
 
 from __future__ import annotations
 
+import warnings
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -123,7 +124,9 @@ def spearman_ci(
     def stat(a: np.ndarray, b: np.ndarray) -> float:
         return stats.spearmanr(a, b).statistic
 
-    with np.errstate(invalid="ignore"):  # a resample with a constant column gives NaN: dropped
+    # a resample with a constant column gives NaN (scipy warns of a degenerate interval): dropped below
+    with np.errstate(invalid="ignore"), warnings.catch_warnings():
+        warnings.simplefilter("ignore", stats.DegenerateDataWarning)
         res = stats.bootstrap(
             (x, y),
             stat,
@@ -135,6 +138,11 @@ def spearman_ci(
             random_state=np.random.default_rng(seed),
         )
     lo, hi = res.confidence_interval
+    dist = res.bootstrap_distribution
+    if np.isnan(dist).any():  # scipy's interval is then NaN: take it over the defined resamples
+        finite = dist[np.isfinite(dist)]
+        a = (1 - level) / 2
+        lo, hi = stats.quantile(finite, [a, 1 - a]) if finite.size else (np.nan, np.nan)
     return RankAgreement(metric, len(x), rho, float(lo), float(hi), level)
 
 

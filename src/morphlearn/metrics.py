@@ -169,6 +169,14 @@ def rank_designs(table: pd.DataFrame, by: str) -> pd.DataFrame:
     return table.sort_values([*keys, "design"], ascending=[*up, True], kind="stable")
 
 
+def best_designs(table: pd.DataFrame, by: str, n: int) -> list[int]:
+    """The ``n`` best designs by ``by`` among those with a positive value (a design with M_L = 0 has
+    no generalist: tied at 0 with most others at a coarse weight grid, it is not "best"); fewer
+    than ``n`` where fewer are positive. Ties as :func:`rank_designs`."""
+    ranked = rank_designs(table, by)
+    return [int(d) for d in ranked.design[ranked[by] > 0].head(n)]
+
+
 def find_row(table: pd.DataFrame, design: tuple[tuple[float, float], tuple[float, float]]) -> pd.Series | None:
     """The row of a design given by its sensor coordinates, or None if the table has none."""
     (a, b), (c, d) = design

@@ -197,7 +197,8 @@ class Physics(Model):
     def _screened(self, top: Mapping[str, Any], g: DesignGrid) -> np.ndarray:
         """``designs: {top_of: {bundle, model, by, n}}``: the ``n`` best designs by ``by`` of a
         committed survey of the same grid (screen with a cheaper engine, refine with this one;
-        its table is checked against the bundle's record; ties as :func:`metrics.rank_designs`)."""
+        its table is checked against the bundle's record; designs with a positive value only, ties
+        as :func:`metrics.best_designs`)."""
         import pandas as pd
 
         from morphlearn import metrics, provenance
@@ -213,7 +214,7 @@ class Physics(Model):
             raise ConfigError(
                 f"{key}: {path} holds {len(table)} designs; allowed: a survey of every design of this grid ({g.size})"
             )
-        return metrics.rank_designs(table, top["by"]).design.head(top["n"]).to_numpy(dtype=np.int64)
+        return np.array(metrics.best_designs(table, top["by"], top["n"]), dtype=np.int64)
 
     def _check_designs(self, sec: Mapping[str, Any], simulated: list[int]) -> None:
         if sec.get("mirror_derive") and sec.get("designs") != "all" and not sec.get("include_mirrors", True):
