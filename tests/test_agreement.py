@@ -70,12 +70,18 @@ def test_ties_at_zero_are_not_best() -> None:
     assert row["top10_M_L_sizes"] == {"reference": 5, "candidate": 5} and row["top10_M_L"] == 5
     assert row["screen"]["reference_best"] == [3, 40, 77, 300, 620]
     assert row["screen"]["reference_best_missed"] == []
+    # ranks: 1 + the designs strictly better; the designs tied at 0 share rank 6
+    assert row["canonical"]["rank_M_L_reference"] == 5 and row["canonical"]["tied_M_L_reference"] == 0
+    flat = ag.compare(ref, _survey("mujoco", np.where(ml > 0, 1 / 121, 0), mcf, {}))
+    assert flat["canonical"]["rank_M_L_candidate"] == 1 and flat["canonical"]["tied_M_L_candidate"] == 4
+    assert flat["best_M_L"]["its_rank_in_candidate"] == 1 and row["best_M_L"]["reference_best"] == 3
     lo, hi = row["rho_M_L"]["lo"], row["rho_M_L"]["hi"]
     assert np.isfinite(lo) and np.isfinite(hi) and lo <= row["rho_M_L"]["rho"] <= hi
     other = ml.copy()
     other[[3, 40]] = 0  # the candidate loses the reference's two best
     row = ag.compare(ref, _survey("mujoco", other, other / 2, {}))
     assert row["top10_M_L"] == 3 and row["top10_M_L_sizes"]["candidate"] == 3
+    assert row["best_M_L"]["its_rank_in_candidate"] == 4  # 3 lost its generalists: tied at 0, after 3
     refined = {77, 300, 620} | {int(DesignGrid(N).mirror(d)) for d in (77, 300, 620)}
     assert row["screen"]["designs_refined"] == len(refined)
     assert row["screen"]["reference_best_missed"] == [d for d in (3, 40) if d not in refined]

@@ -15,7 +15,8 @@ the project's body (the committed surveys) adds the body. Per candidate, against
   bundles hold outcome arrays of (a survey bundle kept whole: every design);
 - the overlap of the top 10 designs by M_L and by M_CF, counting only designs with a positive value
   (designs tied at 0 are not "best" on either side); the share of designs with a generalist;
-- the ranks of the canonical design and of each side's best design in the other.
+- the ranks of the canonical design and of each side's best design in the other (ties share a
+  rank).
 
 Light imports only at module level: the Snakefile imports this module at parse time.
 """
@@ -158,13 +159,19 @@ def solved(table: pd.DataFrame) -> pd.Series:
     return table.filter(regex=r"^n_\d+$").sum(axis=1)
 
 
-def _rank(table: pd.DataFrame, by: str) -> pd.Series:
+def _rank(table: pd.DataFrame, by: str, design: int) -> int:
+    """A design's rank by ``by``: 1 + the designs strictly better (ties share a rank: at 11 x 11
+    most designs are tied at 0 and the few with a generalist have one each)."""
     from morphlearn import metrics
 
-    order = metrics.rank_designs(table, by).design.to_numpy()
-    import pandas as pd
+    return metrics.rank_of(table, table.set_index("design").loc[design], by)
 
-    return pd.Series(np.arange(1, len(order) + 1), index=order)
+
+def _best(table: pd.DataFrame, by: str) -> int:
+    """The best design by ``by`` (ties broken as :func:`metrics.rank_designs`)."""
+    from morphlearn import metrics
+
+    return int(metrics.rank_designs(table, by).design.iloc[0])
 
 
 def compare(ref: Survey, cand: Survey) -> dict[str, Any]:
@@ -195,17 +202,15 @@ def compare(ref: Survey, cand: Survey) -> dict[str, Any]:
     for m in ("M_L", "M_CF"):
         r = spearman_ci(a.loc[common, m].to_numpy(), b.loc[common, m].to_numpy(), m)
         out[f"rho_{m}"] = {"rho": r.rho, "lo": r.low, "hi": r.high}
-        ra, rb = _rank(ref.table, m), _rank(cand.table, m)
         top_a, top_b = metrics.best_designs(ref.table, m, TOP), metrics.best_designs(cand.table, m, TOP)
         out[f"top{TOP}_{m}"] = len(set(top_a) & set(top_b))
         out[f"top{TOP}_{m}_sizes"] = {"reference": len(top_a), "candidate": len(top_b)}
-        best_b = int(rb.index[0])
-        best_a = int(ra.index[0])
+        best_b, best_a = _best(cand.table, m), _best(ref.table, m)
         out[f"best_{m}"] = {
             "candidate_best": best_b,
-            "its_rank_in_reference": int(ra[best_b]),
+            "its_rank_in_reference": _rank(ref.table, m, best_b),
             "reference_best": best_a,
-            "its_rank_in_candidate": int(rb[best_a]),
+            "its_rank_in_candidate": _rank(cand.table, m, best_a),
         }
     r = spearman_ci(solved(a.loc[common]).to_numpy(), solved(b.loc[common]).to_numpy(), "solved")
     out["rho_solved"] = {"rho": r.rho, "lo": r.low, "hi": r.high}
@@ -213,8 +218,11 @@ def compare(ref: Survey, cand: Survey) -> dict[str, Any]:
     canon = int(g.index_of(*canonical_design()))
     out["canonical"] = {
         "design": canon,
-        **{f"rank_{m}_reference": int(_rank(ref.table, m)[canon]) for m in ("M_L", "M_CF")},
-        **{f"rank_{m}_candidate": int(_rank(cand.table, m)[canon]) for m in ("M_L", "M_CF")},
+        **{f"rank_{m}_reference": _rank(ref.table, m, canon) for m in ("M_L", "M_CF")},
+        **{f"rank_{m}_candidate": _rank(cand.table, m, canon) for m in ("M_L", "M_CF")},
+        # designs sharing its M_L (its rank is shared with them)
+        "tied_M_L_reference": int((a.M_L == a.M_L[canon]).sum()) - 1,
+        "tied_M_L_candidate": int((b.M_L == b.M_L[canon]).sum()) - 1,
     }
     out["with_generalist"] = {
         "reference": float((a.generalists > 0).mean()),
