@@ -160,3 +160,19 @@ def test_designs_top_of_a_screening_survey() -> None:
         _ode_config({"top_of": {**top, "bundle": "results/nowhere"}})
     with pytest.raises(ConfigError, match=r"ode\.designs"):
         _ode_config({"top_of": {**top, "by": "speed"}})
+    # a coarse survey of the authors' robot: n larger than its designs with a generalist gives those
+    sparse = {"bundle": "results/authors-engines", "model": "mujoco", "by": "M_L", "n": 20}
+    table = pd.read_csv(ROOT / "results/authors-engines/mujoco/metrics.csv", comment="#")
+    held = models.get("ode").settings(_ode_config({"top_of": sparse}, include_mirrors=False)).held
+    assert list(held) == sorted(int(d) for d in table.design[table.generalists > 0]) and 0 < len(held) < 20
+
+
+def test_designs_top_of_a_survey_without_a_generalist(monkeypatch: pytest.MonkeyPatch) -> None:
+    from morphlearn import metrics
+    from morphlearn.config import ConfigError
+
+    pytest.importorskip("morphlearn.ode._core")
+    monkeypatch.setattr(metrics, "best_designs", lambda *a: [])
+    top = {"bundle": "results/survey-mujoco", "model": "mujoco", "by": "M_CF", "n": 3}
+    with pytest.raises(ConfigError, match=r"ode\.designs\.top_of: .* has no design with M_CF > 0"):
+        _ode_config({"top_of": top})

@@ -115,7 +115,8 @@ def spearman_ci(
     x: np.ndarray, y: np.ndarray, metric: str, n_resamples: int = 2000, level: float = 0.95, seed: int = 0
 ) -> RankAgreement:
     """Spearman's rho of paired per-design values with a percentile bootstrap interval over designs
-    (seeded: the same inputs give the same interval)."""
+    (seeded: the same inputs give the same interval; resamples in which a side is constant, rho
+    undefined, are left out of the interval)."""
     x, y = np.asarray(x, float), np.asarray(y, float)
     if len(x) < MIN_DESIGNS:  # e.g. a physics run of one refined design: no ranks to compare
         return RankAgreement(metric, len(x), np.nan, np.nan, np.nan, level)

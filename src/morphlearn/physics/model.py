@@ -214,7 +214,10 @@ class Physics(Model):
             raise ConfigError(
                 f"{key}: {path} holds {len(table)} designs; allowed: a survey of every design of this grid ({g.size})"
             )
-        return np.array(metrics.best_designs(table, top["by"], top["n"]), dtype=np.int64)
+        best = metrics.best_designs(table, top["by"], top["n"])
+        if not best:
+            raise ConfigError(f"{key}: {path} has no design with {top['by']} > 0; allowed: a survey with one")
+        return np.array(best, dtype=np.int64)
 
     def _check_designs(self, sec: Mapping[str, Any], simulated: list[int]) -> None:
         if sec.get("mirror_derive") and sec.get("designs") != "all" and not sec.get("include_mirrors", True):
