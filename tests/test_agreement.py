@@ -119,6 +119,14 @@ def test_committed_numbers_are_the_bundles() -> None:
     os.chdir(ROOT)
     try:
         assert ag.numbers(s) == json.loads(COMMITTED.read_text())
+        # the record names every table and bundle manifest it read, at their current digests (a
+        # candidate bundle re-made since, with another run cost, would show here)
+        from morphlearn import provenance
+
+        rec = json.loads((COMMITTED.parent / "agreement.provenance.json").read_text())
+        want = {f for src in s.sources() for f in src.files()}
+        assert set(rec["inputs"]) == want
+        assert all(rec["inputs"][f] == provenance.sha256_file(f) for f in want)
     finally:
         os.chdir(cwd)
 

@@ -333,6 +333,8 @@ def write(s: AgreementSettings, table_csv: str | Path, numbers_json: str | Path)
         tmp.write_text(json.dumps(n, indent=1) + "\n")
     with store.atomic_path(Path(table_csv)) as tmp:
         table(n).to_csv(tmp, index=False)
-    rec = provenance.record(s.science(), [str(src.table) for src in s.sources()])
+    # the bundles' manifests too: the screen reads their run cost, which their SHA-256 lists cover
+    files = dict.fromkeys(f for src in s.sources() for f in src.files())
+    rec = provenance.record(s.science(), list(files))
     provenance.write_sealed(provenance.sidecar_of(table_csv), rec, [table_csv, numbers_json])
     return n
