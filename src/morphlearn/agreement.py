@@ -30,7 +30,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from morphlearn.grid import DesignGrid, canonical_design
+from morphlearn.grid import ENV_ANGLES_DEG, DesignGrid, canonical_design
 
 if TYPE_CHECKING:
     import pandas as pd
@@ -156,7 +156,7 @@ def read(src: Source) -> Survey:
 
 def solved(table: pd.DataFrame) -> pd.Series:
     """Cells each design solves: its successes summed over the environments (``n_<angle>``)."""
-    return table.filter(regex=r"^n_\d+$").sum(axis=1)
+    return table[[f"n_{a}" for a in ENV_ANGLES_DEG]].sum(axis=1)
 
 
 def _rank(table: pd.DataFrame, by: str, design: int) -> int:
