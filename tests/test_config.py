@@ -68,3 +68,41 @@ def test_workflow_refuses_bad_config_and_writes_nothing(tmp_path: Path, override
     assert proc.returncode == 2, proc.stderr[-2000:]
     assert needle in proc.stderr
     assert written_results(wd) == []
+
+
+@pytest.mark.parametrize(
+    "path", sorted(p.name for p in (ROOT / "config").glob("*.yaml") if "robot: authors" in p.read_text())
+)
+def test_the_authors_robot_gets_the_authors_body_in_every_committed_config(path: str, monkeypatch) -> None:
+    """Each engine's ``robot: authors`` section, merged over config.yaml as ``--configfile`` merges
+    it, simulates the authors' body file. Once config.yaml pinned ``empirical.morphology`` to the
+    project's body and the pybullet survey of config/authors_pybullet.yaml ran the authors' robot
+    with the project's masses, motor and gravity, unnoticed."""
+    from morphlearn import models
+    from morphlearn.physics.params import load_params
+
+    monkeypatch.chdir(ROOT)
+    s = configure.parse(config.read("config.yaml", [f"config/{path}"]))
+    authors = [n for n, sec in s.models.items() if getattr(sec, "robot", None) == "authors" and sec.enabled]
+    assert authors, "no enabled section with robot: authors"
+    for name in authors:
+        e = models.get(name).settings(s)
+        assert e.morphology == "config/authors_body.yaml", name
+        assert e.params == load_params("config/authors_body.yaml"), name
+        assert e.science["params"]["gravity"] == 1.0, name  # the authors' world, not -9.81
+
+
+def test_one_robot_with_the_other_robots_body_file_is_refused(monkeypatch) -> None:
+    monkeypatch.chdir(ROOT)
+    cfg = config.read("config.yaml", ["config/authors_pybullet.yaml"])
+    cfg["empirical"]["morphology"] = "config/empirical_morphology.yaml"
+    with pytest.raises(
+        config.ConfigError,
+        match=r"empirical.morphology = 'config/empirical_morphology.yaml' is the "
+        r"project robot's body file but empirical.robot = 'authors'; allowed: null",
+    ):
+        configure.parse(cfg)
+    cfg = config.read("config.yaml")
+    cfg["empirical"]["morphology"] = "config/authors_body.yaml"  # robot: project (the default)
+    with pytest.raises(config.ConfigError, match="is the authors robot's body file"):
+        configure.parse(cfg)

@@ -104,6 +104,15 @@ class Physics(Model):
         if robot not in self.robots:
             raise ConfigError(f"{self.name}.robot = {robot!r} is invalid; allowed: {list(self.robots)}")
         morphology = sec.get("morphology") or ROBOT_BODIES[robot]
+        # one robot's geometry with another robot's body file is no robot of either (it once ran
+        # unnoticed: the authors' robot with the project's masses, motor and gravity)
+        other = [r for r, f in ROBOT_BODIES.items() if r != robot and Path(f) == Path(morphology)]
+        if other:
+            raise ConfigError(
+                f"{self.name}.morphology = {morphology!r} is the {other[0]} robot's body file but "
+                f"{self.name}.robot = {robot!r}; allowed: null (this robot's own, {ROBOT_BODIES[robot]}) "
+                f"or a body file of your own"
+            )
         params, body = None, None
         # the body file is read here, once: the sweep's science and Fig. 1C (the body) need it
         if enabled or (self.figure_body and shared.figures.enabled):
