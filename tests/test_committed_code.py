@@ -5,6 +5,8 @@ when a later shard at a clean commit reuses those designs from the design cache.
 from __future__ import annotations
 
 import json
+import shutil
+import subprocess
 from pathlib import Path
 
 import pytest
@@ -13,6 +15,10 @@ from conftest import ROOT
 from morphlearn import bundle, config, configure, models, rules, store
 
 SMOKE = config.load(ROOT / "config.yaml", [ROOT / "config/smoke.yaml"])
+#: A commit this history holds (the test runs in the repository: CI's clone holds HEAD).
+HEAD = subprocess.run(["git", "rev-parse", "HEAD"], cwd=ROOT, capture_output=True, text=True, check=True).stdout.strip()
+#: A well-formed hash no repository holds (the shape of a mistyped one).
+NOWHERE = "0" * 6 + "badc0ffee" * 3 + "1234567"
 
 
 def _made_by(commit: str, monkeypatch: pytest.MonkeyPatch, results: Path) -> dict:
@@ -36,16 +42,77 @@ def test_designs_reused_from_dirty_code_are_refused(tmp_path: Path, monkeypatch:
     monkeypatch.setenv("MORPHLEARN_GIT_COMMIT", "aaa-dirty")
     rules.run_shard(s, "theory", 0, shard)  # computes the designs (cached at aaa-dirty)
     shard.unlink()
-    monkeypatch.setenv("MORPHLEARN_GIT_COMMIT", "bbb")
+    monkeypatch.setenv("MORPHLEARN_GIT_COMMIT", HEAD)
     rules.run_shard(s, "theory", 0, shard)  # a clean commit, every design reused
     prov = json.loads(store.read_shard(shard).attrs["provenance_json"])
-    assert prov["git_commit"] == "bbb" and prov["design_commits"] == {"aaa-dirty": n}
+    assert prov["git_commit"] == HEAD and prov["design_commits"] == {"aaa-dirty": n}
     for i in range(1, 9):  # the other shards, computed at the clean commit
         rules.run_shard(s, "theory", i, results / "theory" / "shards" / f"shard_{i}.nc")
     shards = sorted((results / "theory" / "shards").glob("*.nc"))
     rules.run_merge(s, "theory", [str(p) for p in shards], results / "theory" / "merged.zarr")
     by = json.loads(store.open_merged(results / "theory" / "merged.zarr").attrs["provenance_json"])["shards"]
-    assert by["git_commits"] == {"bbb": 9} and by["design_commits"]["aaa-dirty"] == n  # the shards alone hide it
+    assert by["git_commits"] == {HEAD: 9} and by["design_commits"]["aaa-dirty"] == n  # the shards alone hide it
     with pytest.raises(bundle.BundleError, match=rf"{n} design\(s\) or shard\(s\) were simulated at aaa-dirty"):
-        bundle.check_committed(_made_by("bbb", monkeypatch, results), results, ["theory"])
-    bundle.check_committed(_made_by("bbb", monkeypatch, results), results, [])  # read from a bundle: its record
+        bundle.check_committed(_made_by(HEAD, monkeypatch, results), results, ["theory"])
+    bundle.check_committed(_made_by(HEAD, monkeypatch, results), results, [])  # read from a bundle: its record
+
+
+def test_a_commit_outside_this_history_is_refused(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """MORPHLEARN_GIT_COMMIT can name any string: a record naming a commit this repository does not
+    hold (a mistyped hash from a node without .git) is refused, for the bundle and for its designs."""
+    from morphlearn import provenance
+
+    assert len(NOWHERE) == 40 and provenance.in_history(HEAD) is True and provenance.in_history(NOWHERE) is False
+    with pytest.raises(bundle.BundleError, match=rf"commit '{NOWHERE}', named by the bundle, is not this repository's"):
+        bundle.check_committed(_made_by(NOWHERE, monkeypatch, tmp_path), tmp_path, [])
+    results = tmp_path / "results"
+    s = configure.parse(config.deep_merge(SMOKE, {"results_dir": str(results), "sweep": {"shards": 9}}))
+    monkeypatch.setenv("MORPHLEARN_GIT_COMMIT", NOWHERE)
+    shards = [results / "theory" / "shards" / f"shard_{i}.nc" for i in range(9)]
+    shards[0].parent.mkdir(parents=True)
+    rules.run_shard(s, "theory", 0, shards[0])  # one shard's designs at the commit nobody holds
+    monkeypatch.setenv("MORPHLEARN_GIT_COMMIT", HEAD)
+    for i in range(1, 9):
+        rules.run_shard(s, "theory", i, shards[i])
+    with pytest.warns(UserWarning, match="shards come from 2 git commits"):
+        rules.run_merge(s, "theory", [str(p) for p in shards], results / "theory" / "merged.zarr")
+    with pytest.raises(bundle.BundleError, match=rf"commit '{NOWHERE}', named by \d+ design\(s\) or shard\(s\) of "):
+        bundle.check_committed(_made_by(HEAD, monkeypatch, results), results, ["theory"])
+    # a copy of the project without .git has no history to ask: nothing to refuse there
+    copy = shutil.copytree(
+        ROOT / "src" / "morphlearn", tmp_path / "copy" / "morphlearn", ignore=shutil.ignore_patterns("*.so")
+    )
+    assert provenance.in_history(NOWHERE, cwd=copy) is None
+
+
+def _named_commits(o: object, out: set[str]) -> set[str]:
+    """Every commit a bundle.json names (its own, its shards', its designs')."""
+    if isinstance(o, dict):
+        for k, v in o.items():
+            if k in ("git_commits", "design_commits") and isinstance(v, dict):
+                out.update(v)
+            elif k == "git_commit" and isinstance(v, str):
+                out.add(v)
+            else:
+                _named_commits(v, out)
+    elif isinstance(o, list):
+        for v in o:
+            _named_commits(v, out)
+    return out
+
+
+def test_every_commit_a_committed_bundle_names_is_in_this_history() -> None:
+    """The reader's side of the check: each committed bundle names only commits of this history
+    (a '-dirty' one's base included: issue 41 leaves those named, not hidden)."""
+    from morphlearn import provenance
+
+    shallow = subprocess.run(["git", "rev-parse", "--is-shallow-repository"], cwd=ROOT, capture_output=True, text=True)
+    if shallow.stdout.strip() == "true":
+        pytest.skip("a shallow clone lacks the history the bundles name")
+    manifests = sorted((ROOT / "results").glob("*/bundle.json"))
+    assert len(manifests) >= 10
+    for m in manifests:
+        named = _named_commits(json.loads(m.read_text()), set())
+        assert named, m
+        for c in named:
+            assert provenance.in_history(c.removesuffix("-dirty")) is True, f"{m.parent.name} names {c}"

@@ -109,13 +109,16 @@ def uncommitted(commit: str) -> bool:
 def check_committed(made_by: dict[str, Any], run_dir: str | Path, simulated: list[str]) -> None:
     """A bundle names the commit that made it, so it is made from committed code only: refuse
     (BundleError) a dirty worktree, and shards of this run's simulated models made from one (the
-    record would claim a commit that did not make them; a worktree's diff is not recorded). Results
-    read from another bundle keep that bundle's record."""
+    record would claim a commit that did not make them; a worktree's diff is not recorded), and
+    any commit named (the bundle's, its designs') that is not HEAD or an ancestor of it, where a
+    repository answers (:func:`provenance.in_history`). Results read from another bundle keep that
+    bundle's record."""
     if uncommitted(made_by["git_commit"]):
         raise BundleError(
             f"the worktree is at {made_by['git_commit']}: a bundle is made from committed code only; "
             "allowed: commit (or stash) the changes, then run the bundle rule again (finished shards are kept)"
         )
+    named = {made_by["git_commit"]: "the bundle"}
     for model in simulated:
         by = _simulated_by(Path(run_dir) / model / "merged.zarr")
         # per design where the shards record it (a design reused from the design cache keeps its commit)
@@ -126,6 +129,17 @@ def check_committed(made_by: dict[str, Any], run_dir: str | Path, simulated: lis
                 f"{run_dir}/{model}: {sum(commits[c] for c in bad)} design(s) or shard(s) were simulated at {bad[0]}, "
                 "not a commit; allowed: shards made at a clean commit (delete those shards and the design "
                 "cache entries of that run, or re-run from a clean worktree)"
+            )
+        named |= {c: f"{commits[c]} design(s) or shard(s) of {run_dir}/{model}" for c in commits if c not in named}
+    # a clean-looking name is not yet a commit that made them: MORPHLEARN_GIT_COMMIT (cluster nodes,
+    # a lent machine) can name any string, and a mistyped hash once nearly went into a record
+    for c, what in named.items():
+        if provenance.in_history(c) is False:
+            raise BundleError(
+                f"commit {c!r}, named by {what}, is not this repository's HEAD or an ancestor of it "
+                "(a mistyped MORPHLEARN_GIT_COMMIT, code of another branch, or history a shallow clone lacks); "
+                "allowed: results made at "
+                "commits of this history (re-run those designs, or merge the branch that made them)"
             )
 
 

@@ -43,6 +43,21 @@ def git_commit(cwd: str | Path | None = None) -> str:
     return head + ("-dirty" if dirty.strip() else "")
 
 
+def in_history(commit: str, cwd: str | Path | None = None) -> bool | None:
+    """Whether ``commit`` is the project's HEAD or an ancestor of it; None where no repository
+    answers (a copy of the project without ``.git``: nothing to check against). A record can name
+    any commit through ``MORPHLEARN_GIT_COMMIT``; this is how a reader tells one that made it."""
+    where = Path(cwd) if cwd else Path(__file__).resolve().parent
+    try:
+        ask = ["git", "merge-base", "--is-ancestor", commit, "HEAD"]
+        r = subprocess.run(ask, cwd=where, capture_output=True, text=True, timeout=10)
+    except (OSError, subprocess.SubprocessError):
+        return None
+    if r.returncode in (0, 1):
+        return r.returncode == 0
+    return None if "not a git repository" in r.stderr.lower() else False  # 128: an unknown object
+
+
 def sha256_file(path: str | Path) -> str:
     """SHA-256 of a file, or of a directory tree (relative names and contents, sorted)."""
     p = Path(path)
