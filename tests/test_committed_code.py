@@ -62,6 +62,7 @@ def test_a_commit_outside_this_history_is_refused(tmp_path: Path, monkeypatch: p
     hold (a mistyped hash from a node without .git) is refused, for the bundle and for its designs."""
     from morphlearn import provenance
 
+    monkeypatch.chdir(ROOT)  # the bundle rule asks the history of its working directory
     assert len(NOWHERE) == 40 and provenance.in_history(HEAD) is True and provenance.in_history(NOWHERE) is False
     with pytest.raises(bundle.BundleError, match=rf"commit '{NOWHERE}', named by the bundle, is not this repository's"):
         bundle.check_committed(_made_by(NOWHERE, monkeypatch, tmp_path), tmp_path, [])
@@ -83,6 +84,8 @@ def test_a_commit_outside_this_history_is_refused(tmp_path: Path, monkeypatch: p
         ROOT / "src" / "morphlearn", tmp_path / "copy" / "morphlearn", ignore=shutil.ignore_patterns("*.so")
     )
     assert provenance.in_history(NOWHERE, cwd=copy) is None
+    monkeypatch.chdir(copy)  # a workflow copy, as the tests run it: its bundle rule is not refused
+    bundle.check_committed(_made_by("test", monkeypatch, results), results, [])
 
 
 def _named_commits(o: object, out: set[str]) -> set[str]:
