@@ -64,6 +64,8 @@ def test_a_commit_outside_this_history_is_refused(tmp_path: Path, monkeypatch: p
 
     monkeypatch.chdir(ROOT)  # the bundle rule asks the history of its working directory
     assert len(NOWHERE) == 40 and provenance.in_history(HEAD) is True and provenance.in_history(NOWHERE) is False
+    # a ref or an option git would read as one is no commit of a record
+    assert [provenance.in_history(c) for c in ("HEAD", "--help", HEAD[:6], HEAD.upper())] == [False] * 4
     with pytest.raises(bundle.BundleError, match=rf"commit '{NOWHERE}', named by the bundle, is not this repository's"):
         bundle.check_committed(_made_by(NOWHERE, monkeypatch, tmp_path), tmp_path, [])
     results = tmp_path / "results"

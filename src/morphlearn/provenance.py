@@ -6,6 +6,7 @@ import hashlib
 import json
 import os
 import platform
+import re
 import subprocess
 from collections.abc import Sequence
 from importlib import metadata
@@ -46,16 +47,19 @@ def git_commit(cwd: str | Path | None = None) -> str:
 def in_history(commit: str, cwd: str | Path | None = None) -> bool | None:
     """Whether ``commit`` is the project's HEAD or an ancestor of it; None where no repository
     answers (a copy of the project without ``.git``: nothing to check against). A record can name
-    any commit through ``MORPHLEARN_GIT_COMMIT``; this is how a reader tells one that made it."""
+    any commit through ``MORPHLEARN_GIT_COMMIT``; this is how a reader tells one that made it.
+    Only a hash names a commit in a record: a ref (``HEAD``) or an option (``--help``) is not one."""
     where = Path(cwd) if cwd else Path(__file__).resolve().parent
     try:
-        ask = ["git", "merge-base", "--is-ancestor", commit, "HEAD"]
-        r = subprocess.run(ask, cwd=where, capture_output=True, text=True, timeout=10)
+        repo = subprocess.run(["git", "rev-parse", "--git-dir"], cwd=where, capture_output=True, timeout=10)
+        if repo.returncode != 0:
+            return None
+        if not re.fullmatch(r"[0-9a-f]{7,64}", commit):
+            return False
+        ask = ["git", "merge-base", "--is-ancestor", commit, "HEAD"]  # 1: not an ancestor; 128: unknown
+        return subprocess.run(ask, cwd=where, capture_output=True, timeout=10).returncode == 0
     except (OSError, subprocess.SubprocessError):
         return None
-    if r.returncode in (0, 1):
-        return r.returncode == 0
-    return None if "not a git repository" in r.stderr.lower() else False  # 128: an unknown object
 
 
 def sha256_file(path: str | Path) -> str:
