@@ -131,17 +131,17 @@ def check_committed(made_by: dict[str, Any], run_dir: str | Path, simulated: lis
                 "cache entries of that run, or re-run from a clean worktree)"
             )
         named |= {c: f"{commits[c]} design(s) or shard(s) of {run_dir}/{model}" for c in commits if c not in named}
-    # a clean-looking name is not yet a commit that made them: MORPHLEARN_GIT_COMMIT (cluster nodes,
-    # a lent machine) can name any string, and a mistyped hash once nearly went into a record
-    # the history of the project being bundled: the run's working directory (the package may be
-    # imported from another checkout, e.g. an editable install)
+    # A clean-looking name is not yet a commit that made them: MORPHLEARN_GIT_COMMIT (cluster nodes,
+    # a lent machine) can name any string, and a mistyped hash once nearly went into a record. The
+    # history asked is the run's working directory's, the project being bundled (the package may be
+    # imported from another checkout, e.g. an editable install).
     for c, what in named.items():
         if provenance.in_history(c, cwd=Path.cwd()) is False:
             raise BundleError(
                 f"commit {c!r}, named by {what}, is not this repository's HEAD or an ancestor of it "
                 "(a mistyped MORPHLEARN_GIT_COMMIT, code of another branch, or history a shallow clone lacks); "
-                "allowed: results made at "
-                "commits of this history (re-run those designs, or merge the branch that made them)"
+                "allowed: results made at commits of this history (re-run those designs, or merge the branch "
+                "that made them)"
             )
 
 
