@@ -127,8 +127,20 @@ def test_committed_numbers_are_the_bundles() -> None:
         want = {f for src in s.sources() for f in src.files()}
         assert set(rec["inputs"]) == want
         assert all(rec["inputs"][f] == provenance.sha256_file(f) for f in want)
+        # made from a commit of this history, not a worktree with changes (issue 41)
+        assert not provenance.uncommitted(rec["git_commit"]), rec["git_commit"]
+        assert provenance.in_history(rec["git_commit"], cwd=ROOT) in (True, None)
     finally:
         os.chdir(cwd)
+
+
+def test_uncommitted_code_is_refused_and_nothing_written(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.setenv("MORPHLEARN_GIT_COMMIT", "abc-dirty")
+    s = ag.AgreementSettings(True, ag.Source("results/authors-engines", "ode"), (ag.Source("results/x", "mujoco"),))
+    out = tmp_path / "agreement.csv", tmp_path / "agreement.json"
+    with pytest.raises(ValueError, match=r"at abc-dirty: the agreement stage .* committed code only"):
+        ag.write(s, *out)
+    assert list(tmp_path.iterdir()) == []
 
 
 def _ode_config(designs: object, **extra: object) -> object:

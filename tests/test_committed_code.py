@@ -121,3 +121,28 @@ def test_every_commit_a_committed_bundle_names_is_in_this_history() -> None:
         assert named, m
         for c in named:
             assert provenance.in_history(c.removesuffix("-dirty")) is True, f"{m.parent.name} names {c}"
+
+
+def test_results_are_outputs_not_code_for_the_dirty_check(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """A rule re-making a committed result overwrites tracked files under results/: its record must
+    still name the clean commit (results/agreement once named its own commit '-dirty' so), while an
+    edit anywhere else, a config included, is dirty."""
+    from morphlearn import provenance
+
+    monkeypatch.delenv("MORPHLEARN_GIT_COMMIT", raising=False)
+    git = ["git", "-c", "user.name=t", "-c", "user.email=t@t", "-c", "commit.gpgsign=false"]
+    for f in ("src/code.py", "config/run.yaml", "results/agreement/table.csv"):
+        (tmp_path / f).parent.mkdir(parents=True, exist_ok=True)
+        (tmp_path / f).write_text("1\n")
+    subprocess.run(["git", "init", "-q"], cwd=tmp_path, check=True)
+    subprocess.run([*git, "add", "."], cwd=tmp_path, check=True)
+    subprocess.run([*git, "commit", "-q", "-m", "x"], cwd=tmp_path, check=True)
+    head = subprocess.run(["git", "rev-parse", "HEAD"], cwd=tmp_path, capture_output=True, text=True).stdout.strip()
+    sub = tmp_path / "src"  # asked from a subfolder, as the package asks from its own
+    (tmp_path / "results/agreement/table.csv").write_text("2\n")
+    assert provenance.git_commit(sub) == head
+    for f in ("config/run.yaml", "src/code.py"):
+        (tmp_path / f).write_text("2\n")
+        assert provenance.git_commit(sub) == head + "-dirty", f
+        subprocess.run(["git", "checkout", "-q", "--", f], cwd=tmp_path, check=True)
+    assert provenance.git_commit(sub) == head

@@ -325,9 +325,17 @@ def table(n: dict[str, Any]) -> pd.DataFrame:
 
 
 def write(s: AgreementSettings, table_csv: str | Path, numbers_json: str | Path) -> dict[str, Any]:
-    """The table and the numbers; custody: their sealed record (the sources' digests and theirs)."""
+    """The table and the numbers; custody: their sealed record (the sources' digests and theirs).
+    Refuses (ValueError, nothing written) uncommitted code: the outputs are committed, and their
+    record would name a commit that did not make them."""
     from morphlearn import provenance, store
 
+    commit = provenance.git_commit()
+    if provenance.uncommitted(commit):
+        raise ValueError(
+            f"the worktree is at {commit}: the agreement stage writes committed results, so it runs "
+            "from committed code only; allowed: commit (or stash) the changes, then run it again"
+        )
     n = numbers(s)
     with store.atomic_path(Path(numbers_json)) as tmp:
         tmp.write_text(json.dumps(n, indent=1) + "\n")

@@ -97,15 +97,6 @@ def made_by(configs: list[str], results_dir: str) -> dict[str, Any]:
     }
 
 
-#: What a commit reads as when the code that made something is not a commit.
-UNCOMMITTED = ("-dirty", "unknown")
-
-
-def uncommitted(commit: str) -> bool:
-    """A commit record that names no commit: a worktree with uncommitted changes, or no git."""
-    return commit.endswith(UNCOMMITTED[0]) or commit == UNCOMMITTED[1]
-
-
 def check_committed(made_by: dict[str, Any], run_dir: str | Path, simulated: list[str]) -> None:
     """A bundle names the commit that made it, so it is made from committed code only: refuse
     (BundleError) a dirty worktree, and shards of this run's simulated models made from one (the
@@ -113,7 +104,7 @@ def check_committed(made_by: dict[str, Any], run_dir: str | Path, simulated: lis
     any commit named (the bundle's, its designs') that is not HEAD or an ancestor of it, where a
     repository answers (:func:`provenance.in_history`). Results read from another bundle keep that
     bundle's record."""
-    if uncommitted(made_by["git_commit"]):
+    if provenance.uncommitted(made_by["git_commit"]):
         raise BundleError(
             f"the worktree is at {made_by['git_commit']}: a bundle is made from committed code only; "
             "allowed: commit (or stash) the changes, then run the bundle rule again (finished shards are kept)"
@@ -123,7 +114,7 @@ def check_committed(made_by: dict[str, Any], run_dir: str | Path, simulated: lis
         by = _simulated_by(Path(run_dir) / model / "merged.zarr")
         # per design where the shards record it (a design reused from the design cache keeps its commit)
         commits = by.get("design_commits") or by.get("git_commits", {})
-        bad = sorted(c for c in commits if uncommitted(c))
+        bad = sorted(c for c in commits if provenance.uncommitted(c))
         if bad:
             raise BundleError(
                 f"{run_dir}/{model}: {sum(commits[c] for c in bad)} design(s) or shard(s) were simulated at {bad[0]}, "

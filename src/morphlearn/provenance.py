@@ -19,8 +19,18 @@ from morphlearn import __version__, bounded
 _LIBS = ("numpy", "scipy", "xarray", "zarr", "pandas", "snakemake")
 
 
+#: What a commit reads as when the code that made something is not a commit.
+UNCOMMITTED = ("-dirty", "unknown")
+
+
+def uncommitted(commit: str) -> bool:
+    """A commit record that names no commit: a worktree with uncommitted changes, or no git."""
+    return commit.endswith(UNCOMMITTED[0]) or commit == UNCOMMITTED[1]
+
+
 def git_commit(cwd: str | Path | None = None) -> str:
-    """HEAD commit of the project, with ``-dirty`` if tracked files differ; 'unknown' outside git.
+    """HEAD commit of the project, with ``-dirty`` if tracked files outside ``results/`` differ;
+    'unknown' outside git.
 
     ``MORPHLEARN_GIT_COMMIT`` overrides it (e.g. on cluster nodes without the repository).
     """
@@ -32,8 +42,11 @@ def git_commit(cwd: str | Path | None = None) -> str:
         head = subprocess.run(
             ["git", "rev-parse", "HEAD"], cwd=where, capture_output=True, text=True, check=True, timeout=10
         ).stdout.strip()
+        # results/ holds outputs, not code: a rule re-making a committed result (results/agreement,
+        # a bundle) overwrites tracked files there, which must not make its own record call the code
+        # that made it dirty. What a record read is named by digest (its inputs; bundles' SHA-256s).
         dirty = subprocess.run(
-            ["git", "status", "--porcelain", "--untracked-files=no"],
+            ["git", "status", "--porcelain", "--untracked-files=no", "--", ":/", ":(top,exclude)results/"],
             cwd=where,
             capture_output=True,
             text=True,

@@ -16,7 +16,7 @@ if workflow.is_main_process:
         print(f"morphlearn: {err}", file=sys.stderr)
         sys.exit(2)
     # said before hours of simulation, not only when the bundle rule refuses them
-    if bundlemod.uncommitted(provenance.git_commit()):
+    if provenance.uncommitted(provenance.git_commit()):
         print(
             f"morphlearn: note: the worktree is at {provenance.git_commit()}: the bundle rule refuses results "
             "simulated from uncommitted code (commit first; bundle_dir is set)",
