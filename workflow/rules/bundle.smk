@@ -16,9 +16,10 @@ if workflow.is_main_process:
         print(f"morphlearn: {err}", file=sys.stderr)
         sys.exit(2)
     # said before hours of simulation, not only when the bundle rule refuses them
-    if provenance.uncommitted(provenance.git_commit()):
+    commit = provenance.git_commit()
+    if provenance.uncommitted(commit):
         print(
-            f"morphlearn: note: the worktree is at {provenance.git_commit()}: the bundle rule refuses results "
+            f"morphlearn: note: the worktree is at {commit}: the bundle rule refuses results "
             "simulated from uncommitted code (commit first; bundle_dir is set)",
             file=sys.stderr,
         )
