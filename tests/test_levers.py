@@ -218,6 +218,39 @@ def test_rank_agreement_and_sensor_use() -> None:
         compare.joined(t, t.assign(l1x=t.l1x + 0.1))
 
 
+def _grid_table(n: int, m_l: np.ndarray) -> pd.DataFrame:
+    """A metrics table of every design of the ``n``-point grid."""
+    from morphlearn import grid
+
+    g = grid.DesignGrid(n)
+    c = g.coords(np.arange(g.size))
+    cols = dict(zip(compare.COORDS, c.T, strict=True))
+    return pd.DataFrame({"design": np.arange(g.size), **cols, "generalists": 0, "M_L": m_l, "M_CF": m_l / 2})
+
+
+def test_joined_pairs_a_subgrid_survey_by_coordinates() -> None:
+    """A survey of the 3-point grid beside a 5-point run (the 5-point ODE survey beside the paper's
+    9-point theory): paired on the 81 designs they share, by position, not by index."""
+    from morphlearn import grid
+
+    fine, coarse = grid.DesignGrid(5), grid.DesignGrid(3)
+    assert grid.is_subgrid(3, 5) and grid.is_subgrid(5, 9) and not grid.is_subgrid(4, 9) and not grid.is_subgrid(9, 5)
+    rng = np.random.default_rng(1)
+    a = _grid_table(5, rng.random(fine.size))
+    b = _grid_table(3, rng.random(coarse.size))
+    both = compare.joined(a, b)
+    assert len(both) == coarse.size
+    # each coarse design sits at the fine index of its own coordinates, with its own values
+    at = fine.flat(2 * coarse.indices(np.arange(coarse.size)))  # every other position
+    want = pd.DataFrame({"design": at, "M_L_b": b.M_L}).sort_values("design").reset_index(drop=True)
+    got = both.rename(columns={f"M_L_{compare.PAIR[1]}": "M_L_b"})
+    assert got.design.tolist() == want.design.tolist() and np.allclose(got.M_L_b, want.M_L_b)
+    assert np.allclose(both[f"M_L_{compare.PAIR[0]}"], a.M_L.to_numpy()[both.design])
+    assert not np.array_equal(both.design, np.arange(coarse.size))  # not paired by index
+    with pytest.raises(ValueError, match="different grids"):
+        compare.joined(a, b.assign(l1x=b.l1x + 0.01))
+
+
 def test_compare_cli(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
     from morphlearn.cli import main
 

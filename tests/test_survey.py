@@ -115,6 +115,33 @@ def test_results_from_reads_the_bundle(survey_run: Path, tmp_path: Path) -> None
     assert not (wd / "results" / "reader2" / "empirical" / "metrics.csv").exists()  # nothing half-written
 
 
+def test_survey_from_a_coarser_grid(survey_run: Path, tmp_path: Path) -> None:
+    """A run on the 5-point grid reads the 3-point toy survey as its survey_from (as the paper's
+    9-point bundle reads the ODE survey of the 5-point grid): Fig. 7 C-D and the survey figure draw
+    its 81 designs, paired with the theory's designs by position, and say which grid they are."""
+    wd = copy_workflow(tmp_path / "fine")
+    shutil.copytree(survey_run / "results" / "toy-survey", wd / "results" / "toy-survey")
+    cfg = {k: SURVEY[k] for k in ("sweep", "analysis")} | {"results_dir": "results/fine"}
+    cfg |= {"grid": {"positions_per_axis": 5, "weights": 5}, "empirical": {"enabled": False}}
+    cfg |= {"survey_from": {"bundle": "results/toy-survey", "model": "empirical"}}
+    (wd / "fine.yaml").write_text(yaml.safe_dump(cfg))
+    targets = [f"results/fine/{f}" for f in ("figures/survey.png", "figures/fig7.png", "reproduction.md")]
+    snakemake(wd, *targets, "--cores", "2", "--configfile", "fine.yaml")
+    r = wd / "results" / "fine"
+    grid_text = "the 3-point grid, every 2nd position of this run's 5"
+    cap7 = (r / "figures" / "fig7.caption.md").read_text()
+    assert f"the largest survey: pybullet, all 81 designs of {grid_text}" in cap7
+    cap = (r / "figures" / "survey.caption.md").read_text()
+    assert "one of the 81 designs simulated by both models" in cap and grid_text in cap
+    rows = pd.read_csv(r / "reproduction.csv").set_index("key")
+    survey = pd.read_csv(r / "survey" / "empirical" / "metrics.csv")
+    with_g = int((survey.generalists > 0).sum())
+    assert rows.at["survey_share_with_generalist", "ours"].startswith(f"{with_g} of 81 ")
+    assert "81 designs" in rows.at["survey_rho_M_L", "ours"] or "undefined" in rows.at["survey_rho_M_L", "ours"]
+    # the paper's claims about all designs: not comparable on a coarser grid, and said why
+    assert rows.at["survey_best_on_both", "verdict"] == "not comparable"
+
+
 def test_results_from_bad_values_are_named(tmp_path: Path) -> None:
     from morphlearn import config as cfgmod
 
@@ -146,14 +173,23 @@ def test_results_from_bad_values_are_named(tmp_path: Path) -> None:
             {"bundle": "results/survey", "model": "theory"},
         ),
         r"survey_from\.bundle = 'nowhere': nowhere/bundle\.json is missing": (base, {"bundle": "nowhere"}),
-        rf"'.*paper': its empirical results hold {held} of the grid's 6561 designs; allowed: a survey": (
+        rf"'.*paper': its empirical results hold {held} of the 6561 designs of its 9-point grid; allowed: a survey": (
             nine,
             {"bundle": str(root / "results" / "paper"), "model": "empirical"},
+        ),
+        # a survey of a finer grid is no survey of this one (its positions are not all this grid's)
+        r"'.*survey9-mujoco' holds results on the 9-point grid; allowed: a bundle on grid\.positions_per_axis = 5 "
+        r"or a survey of a grid whose positions are among its": (
+            base,
+            {"bundle": str(root / "results/survey9-mujoco")},
         ),
     }
     for message, (cfg, survey) in bad.items():
         with pytest.raises(cfgmod.ConfigError, match=message):
             configure.parse(cfgmod.deep_merge(cfg, {"survey_from": survey}))
+    # a survey of every design of a coarser grid whose positions are this one's: the 5-point grid in 9
+    coarse = configure.parse(cfgmod.deep_merge(nine, {"survey_from": {"bundle": str(root / "results/survey-mujoco")}}))
+    assert coarse.survey.model == "mujoco" and coarse.survey.thresholds
     ok = configure.parse(cfgmod.deep_merge(base, {"survey_from": {"bundle": str(root / "results" / "survey-mujoco")}}))
     assert ok.survey.model == "mujoco" and ok.survey.folder == "survey/mujoco" and ok.survey.thresholds
     # the survey figure: drawn from a survey_from bundle, also without the run's own survey

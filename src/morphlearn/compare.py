@@ -1,9 +1,10 @@
 """Theory against physics, design by design: does the theory's ranking of designs carry over?
 
-Both metrics tables (``<model>/metrics.csv``) index designs on the same grid when the two models
-share ``grid.positions_per_axis``; :func:`joined` pairs their rows by design index (the empirical
-model may hold a subset). Rank agreement is Spearman's rho with a percentile bootstrap interval
-over designs (:func:`spearman_ci`, scipy.stats.bootstrap); the many designs with M = 0 are ties,
+:func:`joined` pairs the rows of two metrics tables (``<model>/metrics.csv``): by design index on
+one grid (the empirical model may hold a subset), by sensor coordinates when one is a coarser grid
+whose positions are the other's (a survey of the 5-point grid beside a 9-point theory run). Rank
+agreement is Spearman's rho with a percentile bootstrap interval over designs
+(:func:`spearman_ci`, scipy.stats.bootstrap); the many designs with M = 0 are ties,
 which Spearman's rho handles by mid-ranks.
 """
 
@@ -74,15 +75,18 @@ def read_table(path: str | Path) -> pd.DataFrame:
 def joined(a: pd.DataFrame, b: pd.DataFrame, names: tuple[str, str] = PAIR) -> pd.DataFrame:
     """One row per design in both tables: coordinates, ``<metric>_<name>`` of each table (e.g.
     ``M_L_theory``, ``M_L_empirical``) and each table's rank by each metric (1 = best; ties broken
-    as :func:`metrics.rank_designs`)."""
+    as :func:`metrics.rank_designs`). Rows are paired by design index on one grid, by sensor
+    coordinates across two (a survey of the 5-point grid beside a 9-point run pairs with the
+    designs it shares; ``design`` is then the first table's index); no design in common is an
+    error."""
     ms = list(metrics.METRICS)
     cols = ["design", *COORDS, "generalists", *ms]
     x, y = names
     both = a[cols].merge(b[cols], on="design", suffixes=(f"_{x}", f"_{y}"))
-    for c in COORDS:
-        if not np.allclose(both[f"{c}_{x}"], both[f"{c}_{y}"]):
-            raise ValueError(f"design indices disagree on {c}: the two tables use different grids")
-    both = both.rename(columns={f"{c}_{x}": c for c in COORDS}).drop(columns=[f"{c}_{y}" for c in COORDS])
+    if not all(np.allclose(both[f"{c}_{x}"], both[f"{c}_{y}"]) for c in COORDS):
+        both = _joined_by_coordinates(a[cols], b[cols], (x, y))  # another grid: its shared designs
+    else:
+        both = both.rename(columns={f"{c}_{x}": c for c in COORDS}).drop(columns=[f"{c}_{y}" for c in COORDS])
     for model in names:
         sub = both[["design", *COORDS, *(f"{m}_{model}" for m in ms)]].rename(columns={f"{m}_{model}": m for m in ms})
         for by in ms:
@@ -90,6 +94,19 @@ def joined(a: pd.DataFrame, b: pd.DataFrame, names: tuple[str, str] = PAIR) -> p
             rank = pd.Series(np.arange(1, len(order) + 1), index=order)
             both[f"rank_{by}_{model}"] = both.design.map(rank).to_numpy()
     return both.sort_values("design").reset_index(drop=True)
+
+
+def _joined_by_coordinates(a: pd.DataFrame, b: pd.DataFrame, names: tuple[str, str]) -> pd.DataFrame:
+    """Rows of two tables on different grids paired by their exact sensor coordinates (a survey of
+    the 5-point grid beside a 9-point run: the positions coincide); ``design`` is the first's."""
+    key = [f"_{c}" for c in COORDS]
+    ka, kb = (t.assign(**{f"_{c}": t[c].round(9) for c in COORDS}) for t in (a, b))
+    if ka.duplicated(key).any() or kb.duplicated(key).any():
+        raise ValueError("design indices disagree on the sensor coordinates: the two tables use different grids")
+    both = ka.merge(kb.drop(columns=["design", *COORDS]), on=key, suffixes=tuple(f"_{n}" for n in names))
+    if both.empty:
+        raise ValueError("no design in common: the two tables use different grids")
+    return both.drop(columns=key)
 
 
 @dataclass(frozen=True)

@@ -21,7 +21,8 @@ from morphlearn.physics.model import Physics
 
 
 def _parse_survey(sec: Mapping[str, Any], grid: st.GridSettings) -> st.SurveySettings:
-    """The survey bundle: a physics model's results on this grid holding every design of it."""
+    """The survey bundle: a physics model's results holding every design of this grid or of a
+    coarser one whose positions are this grid's (checked by the model)."""
     bundle, name = sec["bundle"], sec["model"]  # the schema fills both
     physics = models.physics()
     if name not in physics:
@@ -30,12 +31,7 @@ def _parse_survey(sec: Mapping[str, Any], grid: st.GridSettings) -> st.SurveySet
         return st.SurveySettings(None, name, None)
     model = models.get(name)
     assert isinstance(model, Physics)
-    th, _, held = model.check_results_bundle(bundle, grid.positions_per_axis, key="survey_from.bundle")
-    if len(held) != grid.designs.size:
-        raise cfgmod.ConfigError(
-            f"survey_from.bundle = {bundle!r}: its {name} results hold {len(held)} of the grid's "
-            f"{grid.designs.size} designs; allowed: a survey of every design (e.g. results/survey9-mujoco)"
-        )
+    th, _, _ = model.check_results_bundle(bundle, grid.positions_per_axis, key="survey_from.bundle", survey=True)
     return st.SurveySettings(bundle, name, MappingProxyType(th))
 
 

@@ -39,6 +39,13 @@ def positions(n: int) -> np.ndarray:
     return symmetric_linspace(-0.5, 0.5, n)
 
 
+def is_subgrid(p: int, n: int) -> bool:
+    """Whether every position of the ``p``-point grid is one of the ``n``-point grid's (every
+    ``(n - 1) / (p - 1)``-th: the 5-point grid inside the 9-point one), so that a survey on the
+    ``p``-point grid covers designs of an ``n``-point run."""
+    return 2 <= p <= n and (n - 1) % (p - 1) == 0
+
+
 def weights(m: int) -> np.ndarray:
     """Controller weights per synapse: ``linspace(-1, 1, m)``."""
     return symmetric_linspace(-1.0, 1.0, m)

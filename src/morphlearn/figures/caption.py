@@ -38,6 +38,20 @@ def science_summary(res: ModelResults) -> str:
     return models.get(res.model).describe(res.science, res.n_designs, len(res.weights))
 
 
+def grid_words(res: ModelResults, run: ModelResults) -> str:
+    """The design grid of a survey in words beside the run's: "the grid", or a coarser grid whose
+    positions are the run's ("the 5-point grid, every 2nd position of this run's 9")."""
+    p, n = res.positions_per_axis, run.positions_per_axis
+    if p == n or not p or not n:
+        return "the grid"
+    step = (n - 1) // (p - 1)
+    return f"the {p}-point grid, every {step}{_ordinal(step)} position of this run's {n}"
+
+
+def _ordinal(k: int) -> str:
+    return "th" if 10 <= k % 100 <= 20 else {1: "st", 2: "nd", 3: "rd"}.get(k % 10, "th")
+
+
 def resolution_note(res: ModelResults) -> str:
     """ "paper resolution", or how this run's grid and design set differ from the paper's."""
     n = res.positions_per_axis

@@ -241,13 +241,15 @@ class Physics(Model):
             )
 
     def check_results_bundle(
-        self, path: str, n: int, key: str | None = None
+        self, path: str, n: int, key: str | None = None, survey: bool = False
     ) -> tuple[dict[str, float], int, tuple[int, ...]]:
         """A bundle to read the results from: present, on this config's grid (its checksums are
         checked when the results are copied, by the rule <model>_from_bundle). Returns the
         thresholds its metrics were made with, its weights per synapse and the designs its results
         hold (a survey: all; a refine bundle: a few). ``key``: the config key naming it (error
-        messages)."""
+        messages). ``survey``: it must hold every design of its grid, which may be a coarser grid
+        whose positions are this one's (the 5-point grid's 625 designs beside a 9-point run: a
+        survey of the paper's grid can cost too much in an engine, the sub-grid's is its sample)."""
         from morphlearn import store
 
         key = key or f"{self.name}.results_from"
@@ -273,10 +275,17 @@ class Physics(Model):
             thresholds = dict(prov["config"]["thresholds"])
         except Exception as e:  # a damaged store: say which and why, in one line
             raise ConfigError(f"{key} = {path!r}: unreadable {self.name} results ({e})") from None
-        if positions != n:
+        if positions != n and not (survey and gridmod.is_subgrid(positions, n)):
+            sub = " or a survey of a grid whose positions are among its (e.g. 5 in 9)" if survey else ""
             raise ConfigError(
                 f"{key} = {path!r} holds results on the {positions}-point grid; "
-                f"allowed: a bundle on grid.positions_per_axis = {n}"
+                f"allowed: a bundle on grid.positions_per_axis = {n}{sub}"
+            )
+        if survey and len(held) != gridmod.DesignGrid(positions).size:
+            raise ConfigError(
+                f"{key} = {path!r}: its {self.name} results hold {len(held)} of the "
+                f"{gridmod.DesignGrid(positions).size} designs of its {positions}-point grid; allowed: a survey "
+                "of every design (e.g. results/survey9-mujoco)"
             )
         return thresholds, weights, held
 

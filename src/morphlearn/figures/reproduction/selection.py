@@ -10,10 +10,13 @@ from morphlearn.figures.reproduction.claims import PAPER_ENGINE
 
 
 def is_survey(theory: fd.ModelResults | None, empirical: fd.ModelResults | None) -> bool:
-    """The empirical results cover every design of the theory's grid (config/survey.yaml)."""
-    if theory is None or empirical is None or empirical.positions_per_axis != theory.positions_per_axis:
+    """The empirical results cover every design of the theory's grid (config/survey.yaml), or of a
+    grid whose positions are the theory's (a survey of the 5-point grid beside the paper's 9-point
+    theory: config ``survey_from``)."""
+    if theory is None or empirical is None:
         return False
-    return empirical.n_designs == gridmod.DesignGrid(theory.positions_per_axis or 0).size
+    p, n = empirical.positions_per_axis or 0, theory.positions_per_axis or 0
+    return gridmod.is_subgrid(p, n) and empirical.n_designs == gridmod.DesignGrid(p).size
 
 
 def physics_models() -> list[str]:
