@@ -121,7 +121,8 @@ class CooptSettings:
 @dataclass(frozen=True)
 class SurveySettings:
     """``survey_from``: a committed bundle holding a physics survey of every design of the grid,
-    or of a coarser grid whose positions are the grid's (None: none), the model whose survey it is, and the thresholds its metrics were made with."""
+    or of a coarser grid whose positions are the grid's (None: none), the model whose survey it is,
+    and the thresholds its metrics were made with."""
 
     bundle: str | None
     model: str
