@@ -133,6 +133,7 @@ def test_survey_from_a_coarser_grid(survey_run: Path, tmp_path: Path) -> None:
     assert f"the largest survey: pybullet, all 81 designs of {grid_text}" in cap7
     cap = (r / "figures" / "survey.caption.md").read_text()
     assert "one of the 81 designs simulated by both models" in cap and grid_text in cap
+    assert "in theory (D), the theory's among the same 81 designs" in cap  # not its top of all 625
     rows = pd.read_csv(r / "reproduction.csv").set_index("key")
     survey = pd.read_csv(r / "survey" / "empirical" / "metrics.csv")
     with_g = int((survey.generalists > 0).sum())
