@@ -189,6 +189,23 @@ def test_subset_best_says_which_designs_another_engine_ranks_best_and_whether_th
     assert caption.subset_best(pb, [physics_results("mujoco", {1: (0.1, 0.1), 2: (0, 0), 3: (0, 0)}, m=11)])[1] == []
     # every design of the grid: nothing to say
     assert caption.subset_best(physics_results("mujoco", {d: (0.0, 0.0) for d in range(g.size)}), [mj]) == ("", [])
+    # a survey of every design of a coarser grid whose positions are this one's (the ODE survey of
+    # the 5-point grid beside the 9-point refined designs): its best found on this grid by position
+    nine = grid.DesignGrid(9)
+    best = g.index_of((-0.5, 0.5), (0.5, -0.5))  # 120 on the 5-point grid, 720 on the 9-point one
+    survey = physics_results("ode", {d: (0.07 if d == best else 0.0, 0.3 if d == best else 0.0) for d in range(g.size)})
+    refined = physics_results("ode", {720: (0.07, 0.3), 6560: (0.0, 0.0)}, n=9)
+    assert nine.index_of((-0.5, 0.5), (0.5, -0.5)) == 720 and best == 120
+    text, cited = caption.subset_best(refined, [survey])
+    assert cited == [survey] and text.endswith(
+        " ODE, 121 x 121 weights, over the 625 designs of the 5-point grid its results hold, ranks "
+        "l1 = (-0.5, 0.5), l2 = (0.5, -0.5) best by both M_L and M_CF; ODE holds it."
+    )
+    # held only under the coarse grid's index (120), not at its position: not held
+    wrong = physics_results("ode", {120: (0.07, 0.3), 6560: (0.0, 0.0)}, n=9)
+    assert caption.subset_best(wrong, [survey])[0].endswith("; ODE does not hold it.")
+    # a grid whose positions are not all this one's: not cited
+    assert caption.subset_best(refined, [physics_results("ode", {d: (0.0, 0.0) for d in range(256)}, n=4)])[1] == []
 
 
 # ---------------------------------------------------------------------------------------------- drawing

@@ -106,11 +106,13 @@ def subset_best(res: ModelResults, others: Sequence[ModelResults | None] = ()) -
     """Caption text for a physics model's "best" design when its results hold only some of the
     grid's designs (e.g. the few refined at 121 x 121 weights in pybullet, issue 26): the best of
     those, not of all; and, for each results in ``others`` on the same weight grid that hold more
-    designs (MuJoCo's refined candidates), which designs they rank best and whether ``res`` holds
-    them (or their mirror images), so the choice of designs is checked, not assumed. Returns the
-    text ("" when ``res`` holds every design) and the results of ``others`` it cites (for the
-    caption's data paragraph)."""
-    g = gridmod.DesignGrid(res.positions_per_axis or 0)
+    designs (MuJoCo's refined candidates, or a survey of every design of a coarser grid whose
+    positions are this one's: the ODE survey of the 5-point grid), which designs they rank best and
+    whether ``res`` holds them (or their mirror images), so the choice of designs is checked, not
+    assumed. Returns the text ("" when ``res`` holds every design) and the results of ``others`` it
+    cites (for the caption's data paragraph)."""
+    n = res.positions_per_axis or 0
+    g = gridmod.DesignGrid(n)
     if res.n_designs == g.size:
         return "", []
     used = []
@@ -120,13 +122,15 @@ def subset_best(res: ModelResults, others: Sequence[ModelResults | None] = ()) -
         "their best are the best of those, not of all designs."
     )
     for o in others:
-        if o is None or o.n_designs <= res.n_designs or o.positions_per_axis != res.positions_per_axis:
+        if o is None or o.n_designs <= res.n_designs or not gridmod.is_subgrid(o.positions_per_axis or 0, n):
             continue
         if len(o.weights) != len(res.weights):  # counts over another weight grid do not compare
             continue
         used.append(o)
         best_l, best_cf = o.best("M_L"), o.best("M_CF")
-        picks = sorted({int(best_l.design), int(best_cf.design)})
+        # on this grid by their coordinates (a coarser grid's indices are not this grid's)
+        on_g = {k: g.index_of(*row_design(r)) for k, r in (("l", best_l), ("cf", best_cf))}
+        picks = sorted(set(on_g.values()))
         found = ["itself" if d in held else "mirror" if int(g.mirror(d)) in held else "" for d in picks]
         if len(picks) == 1:
             ranks = f"ranks {design_text(best_l)} best by both M_L and M_CF"
@@ -134,8 +138,10 @@ def subset_best(res: ModelResults, others: Sequence[ModelResults | None] = ()) -
         else:  # a design's mirror image counts as the design here (MuJoCo flips none; pybullet few)
             ranks = f"ranks {design_text(best_l)} best by M_L and {design_text(best_cf)} best by M_CF"
             has = f"holds {sum(map(bool, found))} of the two (or their mirror images)"
+        p = o.positions_per_axis
+        of = "" if p == n else f" of the {p}-point grid"
         text += (
-            f" {dataset_label(o)}, over the {o.n_designs} designs its results hold, {ranks}; "
+            f" {dataset_label(o)}, over the {o.n_designs} designs{of} its results hold, {ranks}; "
             f"{engine_label(res.model)} {has}."
         )
     return text, used

@@ -47,18 +47,20 @@ class Figure:
     needs: str | None = None
     #: Further results it reads, relative to results_dir.
     files: tuple[str, ...] = ()
-    #: It draws the physics survey of ``survey_from`` when the config sets one (notebook
-    #: parameter ``survey``: its model and thresholds), instead of the run's own physics results.
+    #: It reads the physics survey of ``survey_from`` when the config sets one (notebook
+    #: parameter ``survey``: its model and thresholds): to draw it instead of the run's own physics
+    #: results (Fig. 7 C-D, the survey figure), or to check the run's best designs against it
+    #: (Figs. 3 and 6: morphlearn.figures.caption.subset_best).
     survey: bool = False
 
 
 FIGURES: dict[str, Figure] = {
     "fig1": Figure(reads=(), options=("morphology",)),
     "fig2": Figure(options=("fig2_design", "fig2_envs")),
-    "fig3": Figure(reads=("theory", PHYSICS)),
+    "fig3": Figure(reads=("theory", PHYSICS), survey=True),
     "fig4": Figure(options=("trajectory_settings", "near_distance")),
     "fig5": Figure(options=("trajectory_settings", "near_distance")),
-    "fig6": Figure(reads=("theory", PHYSICS)),
+    "fig6": Figure(reads=("theory", PHYSICS), survey=True),
     "fig7": Figure(reads=("theory", PHYSICS), survey=True),
     # beyond the paper: real learners against M_L and M_CF (issue 15; config/learners.yaml)
     "learners": Figure(needs="learners", files=("learners/runs.csv", "learners/correlations.csv")),

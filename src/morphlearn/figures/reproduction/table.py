@@ -85,7 +85,8 @@ def reproduction_table(
         rows.append(claim_row(claim, "theory", said.get(claim.key), config_note(theory, config_name)))
     physics = claim_engines(empirical, engines)
     for name, res in physics or [("physics", None)]:
-        others = [r for n, r in physics if n != name]
+        # the larger sets of designs that check its "best": the survey read from a bundle, the other engines
+        others = ([survey] if survey is not None else []) + [r for n, r in physics if n != name]
         said = {} if res is None else physics_values(res, others)
         for claim in (c for c in CLAIMS if c.model == "physics"):
             rows.append(claim_row(claim, name, said.get(claim.key), config_note(res, config_name)))
