@@ -129,8 +129,7 @@ def subset_best(res: ModelResults, others: Sequence[ModelResults | None] = ()) -
         used.append(o)
         best_l, best_cf = o.best("M_L"), o.best("M_CF")
         # on this grid by their coordinates (a coarser grid's indices are not this grid's)
-        on_g = {k: g.index_of(*row_design(r)) for k, r in (("l", best_l), ("cf", best_cf))}
-        picks = sorted(set(on_g.values()))
+        picks = sorted({g.index_of(*row_design(r)) for r in (best_l, best_cf)})
         found = ["itself" if d in held else "mirror" if int(g.mirror(d)) in held else "" for d in picks]
         if len(picks) == 1:
             ranks = f"ranks {design_text(best_l)} best by both M_L and M_CF"
