@@ -8,7 +8,9 @@ verified rows, manifest and logs into a small folder for git, with a README), ``
 adaptive weight grid replayed on a complete folder: the successes it would miss and the levers'
 cost), ``survey-check`` (the folder against a survey's merged store on the weights both share),
 ``seed`` (the folder's episodes as its design's partial file in a workflow config's design cache,
-so a workflow run simulates only the rest).
+so a workflow run simulates only the rest); ``seed-cache`` does the same from another workflow
+run's design cache (e.g. an adaptive survey's ``<results_dir>/<model>/designs/<digest>/``) for
+every design of it the config simulates.
 
 Refine runs themselves are workflow runs (``config/refine_pybullet.yaml``,
 ``config/refine_mujoco.yaml``, ``config/ode_paper.yaml``); the folders this reads were made by the
@@ -335,6 +337,21 @@ def seed(a: argparse.Namespace) -> int:
     return 0
 
 
+def seed_cache(a: argparse.Namespace) -> int:
+    """Another run's design cache's simulated cells as the partial files of the designs this
+    config simulates (one line per design, on stderr)."""
+    from morphlearn import configure
+    from morphlearn.seed import seed_designs
+
+    s = configure.load(a.base, a.configfile)
+    found = seed_designs(a.cache, s)
+    for r in found:
+        what = "finished already; nothing written" if r.finished else f"{r.seeded} episodes seeded -> {r.path}"
+        print(f"design {r.design}: {r.rows} simulated cells in {a.cache}; {what}", file=sys.stderr)
+    print(f"{len(found)} designs of {a.cache} are designs this config simulates", file=sys.stderr)
+    return 0
+
+
 def run(a: argparse.Namespace) -> int:
     """The action; a refine folder that fails its checks is a usage error (one line, exit 2)."""
     from morphlearn import resumable as rz
@@ -350,7 +367,7 @@ def add_parser(sub: Any) -> argparse.ArgumentParser:
     p = sub.add_parser(
         "refine",
         help="read, check or export a refine folder (one design, exhaustive weights): "
-        "status, assemble, export, adaptive, survey-check, seed",
+        "status, assemble, export, adaptive, survey-check, seed, seed-cache",
         description=__doc__,
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
@@ -397,5 +414,20 @@ def add_parser(sub: Any) -> argparse.ArgumentParser:
     )
     sd.add_argument("--base", type=Path, default=Path("config.yaml"), help="the base config (default: config.yaml)")
     sd.set_defaults(refine_func=seed)
+
+    sc2 = acts.add_parser(
+        "seed-cache", help="another run's design cache's episodes as partial files in a workflow's design cache"
+    )
+    sc2.add_argument(
+        "cache",
+        type=Path,
+        metavar="CACHE",
+        help="a run's design cache folder (<results_dir>/<model>/designs/<digest>/, design_<n>.nc files)",
+    )
+    sc2.add_argument(
+        "--configfile", type=Path, nargs="+", required=True, help="the workflow run's config file(s), as given to it"
+    )
+    sc2.add_argument("--base", type=Path, default=Path("config.yaml"), help="the base config (default: config.yaml)")
+    sc2.set_defaults(refine_func=seed_cache)
     p.set_defaults(func=run)
     return p
