@@ -157,6 +157,30 @@ def test_the_paper_engine_comes_first_and_the_paper_column_names_no_other_engine
     assert set(t[t.key.str.endswith("canonical_M_L") & ~t.key.str.startswith("theory")].paper) == {"0.000068"}
 
 
+def test_the_paper_best_design_is_ranked_among_a_survey_that_lacks_it() -> None:
+    """The paper's best design is not on the 5-point grid an ODE survey covers: its row of the same
+    engine's refined results (same weights) is ranked among the survey's designs by each metric;
+    a survey that holds it ranks its own row; without it, or on another weight grid, no rank."""
+    from morphlearn.figures.reproduction.claims import PAPER_PHYSICS_BEST_DESIGN
+    from morphlearn.figures.reproduction.stages.survey import _paper_best_rank
+
+    ode = fd.load_results(ROOT / "results/ode-paper", "ode", None)
+    table = pd.read_csv(ROOT / "results/ode-paper/ode/metrics.csv")
+    best = table[table.design == 478].iloc[0]  # (-0.5, 0.125), (0.5, -0.375): 57 generalists
+    assert ode.row(*PAPER_PHYSICS_BEST_DESIGN).design == 478
+    # a "survey" without the design; two of its rows made better than it by M_L, one tied
+    others = table[table.design != 478].reset_index(drop=True)
+    others.loc[0, "M_L"], others.loc[1, "M_L"], others.loc[2, "M_L"] = 0.5, 0.4, best.M_L
+    others.loc[:, "M_CF"] = 0.0
+    survey = dataclasses.replace(ode, table=others)
+    said = _paper_best_rank(survey, ode)
+    assert said.startswith("3 by M_L, 1 by M_CF (among the 4 surveyed designs and it:"), said
+    assert _paper_best_rank(ode, None).startswith("1 by M_L, ")  # the design's own row
+    assert _paper_best_rank(survey, None) == "the design is not among the designs held"
+    coarse = dataclasses.replace(ode, ds=ode.ds.isel(w1=slice(0, 11)))  # another weight grid
+    assert _paper_best_rank(survey, coarse) == "the design is not among the designs held"
+
+
 def test_engine_agreement_on_two_shared_designs_is_one_row_not_four_undefined() -> None:
     from morphlearn.figures.reproduction.stages.engines import MIN_DESIGNS, engine_rows
 

@@ -6,7 +6,7 @@ from __future__ import annotations
 from morphlearn import grid as gridmod
 from morphlearn.figures import data as fd
 from morphlearn.figures.reproduction.claim_values import grid_scope
-from morphlearn.figures.reproduction.claims import BEYOND_MODELS, REASONS, YES_NO
+from morphlearn.figures.reproduction.claims import BEYOND_MODELS, PAPER_PHYSICS_BEST_DESIGN, REASONS, YES_NO
 from morphlearn.figures.reproduction.inputs import TableInputs
 from morphlearn.figures.reproduction.selection import is_survey, model_label, physics_models
 from morphlearn.figures.reproduction.text import config_note
@@ -19,12 +19,16 @@ def survey_rows(
     config_name: str,
     model: str = "empirical",
     label: str = "empirical survey",
+    refined: fd.ModelResults | None = None,
 ) -> list[dict[str, str]]:
     """Rows of the survey: the paper's empirical claims that need every design (asymmetric
     designs best on both metrics, generalists rare) and, beyond the paper, whether the theory's
-    ranking of designs carries over (Spearman rho with a 95 % bootstrap interval). ``model``
-    names the physics model's table (keys of other engines than the reference are prefixed with
-    it, quantities with ``label``)."""
+    ranking of designs carries over (Spearman rho with a 95 % bootstrap interval) and where the
+    paper's best design ranks. ``model`` names the physics model's table (keys of other engines
+    than the reference are prefixed with it, quantities with ``label``); ``refined``: the same
+    engine's designs simulated on the survey's weight grid, which hold the paper's best design
+    when the survey's grid does not (the 5-point grid: it is then ranked among the survey's designs
+    by its own metrics)."""
     from morphlearn import compare, metrics, models
 
     t = empirical.table
@@ -72,6 +76,12 @@ def survey_rows(
             "yes",
             "yes" if same_pair else f"no (best by M_CF: {fd.design_label(*fd.row_design(top_cf.iloc[0]))})",
         ),
+        (
+            "survey_paper_best_rank",
+            f"{label}: the paper's best design's rank",
+            "1 (Fig. 3C)",
+            _paper_best_rank(empirical, refined),
+        ),
         ("survey_rho_M_L", f"theory vs {engine}: Spearman rho of M_L over designs", BEYOND_MODELS, agree["M_L"].text()),
         (
             "survey_rho_M_CF",
@@ -101,18 +111,34 @@ def survey_rows(
     return out
 
 
+def _paper_best_rank(survey: fd.ModelResults, refined: fd.ModelResults | None) -> str:
+    """The rank by each metric of the paper's best design among the survey's designs: its own row,
+    or else its row of ``refined`` (same engine, same weight grid) ranked among them."""
+    from morphlearn import metrics
+
+    t = survey.table
+    row, where = metrics.find_row(t, PAPER_PHYSICS_BEST_DESIGN), ""
+    if row is None and refined is not None and len(refined.weights) == len(survey.weights):
+        row, where = refined.row(*PAPER_PHYSICS_BEST_DESIGN), " and it: its own metrics, every cell simulated"
+    if row is None:
+        return "the design is not among the designs held"
+    ranks = ", ".join(f"{metrics.rank_of(t, row, by)} by {by}" for by in metrics.METRICS)
+    return f"{ranks} (among the {len(t)} surveyed designs{where}; ties share a rank)"
+
+
 def rows(t: TableInputs) -> list[dict[str, str]]:
     """The survey read from a bundle (config ``survey_from``), then the run's own pybullet survey
     unless the bundle's is the reference engine's."""
     out: list[dict[str, str]] = []
     theory, survey, empirical = t.theory, t.survey, t.empirical
     if survey is not None and theory is not None and is_survey(theory, survey):
+        # the same engine's refined designs (they may hold the paper's best design, the survey's grid not)
+        refined = t.empirical if survey.model == physics_models()[0] else t.engines.get(survey.model)
         if survey.model == physics_models()[0]:  # the reference engine's survey: the plain survey rows
-            out += survey_rows(theory, survey, t.config_name)
+            out += survey_rows(theory, survey, t.config_name, refined=refined)
         else:
-            out += survey_rows(
-                theory, survey, t.config_name, model=survey.model, label=f"{fd.engine_label(survey.model)} survey"
-            )
+            label = f"{fd.engine_label(survey.model)} survey"
+            out += survey_rows(theory, survey, t.config_name, model=survey.model, label=label, refined=refined)
     if is_survey(theory, empirical) and (survey is None or survey.model != physics_models()[0]):
         out += survey_rows(theory, empirical, t.config_name)  # type: ignore[arg-type]
     return out
