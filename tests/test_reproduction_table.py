@@ -160,9 +160,10 @@ def test_the_paper_engine_comes_first_and_the_paper_column_names_no_other_engine
 def test_the_paper_best_design_is_ranked_among_a_survey_that_lacks_it() -> None:
     """The paper's best design is not on the 5-point grid an ODE survey covers: its row of the same
     engine's refined results (same weights) is ranked among the survey's designs by each metric;
-    a survey that holds it ranks its own row; without it, or on another weight grid, no rank."""
+    a survey that holds it ranks its own row; without it, or on another weight grid, no rank (and
+    no row: the pybullet and MuJoCo surveys of the 5-point grid have none)."""
     from morphlearn.figures.reproduction.claims import PAPER_PHYSICS_BEST_DESIGN
-    from morphlearn.figures.reproduction.stages.survey import _paper_best_rank
+    from morphlearn.figures.reproduction.stages.survey import _paper_best_rank, survey_rows
 
     ode = fd.load_results(ROOT / "results/ode-paper", "ode", None)
     table = pd.read_csv(ROOT / "results/ode-paper/ode/metrics.csv")
@@ -176,9 +177,13 @@ def test_the_paper_best_design_is_ranked_among_a_survey_that_lacks_it() -> None:
     said = _paper_best_rank(survey, ode)
     assert said.startswith("3 by M_L, 1 by M_CF (among the 4 surveyed designs and it:"), said
     assert _paper_best_rank(ode, None).startswith("1 by M_L, ")  # the design's own row
-    assert _paper_best_rank(survey, None) == "the design is not among the designs held"
+    assert _paper_best_rank(survey, None) is None  # no row
     coarse = dataclasses.replace(ode, ds=ode.ds.isel(w1=slice(0, 11)))  # another weight grid
-    assert _paper_best_rank(survey, coarse) == "the design is not among the designs held"
+    assert _paper_best_rank(survey, coarse) is None
+    # the committed pybullet survey (5-point grid) beside its theory: no such row
+    theory5 = fd.load_results(ROOT / "results/survey", "theory", None)
+    pybullet5 = fd.load_results(ROOT / "results/survey", "empirical", None)
+    assert not [r for r in survey_rows(theory5, pybullet5, "cfg") if r["key"].endswith("paper_best_rank")]
 
 
 def test_engine_agreement_on_two_shared_designs_is_one_row_not_four_undefined() -> None:

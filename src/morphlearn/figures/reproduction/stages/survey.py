@@ -76,12 +76,6 @@ def survey_rows(
             "yes",
             "yes" if same_pair else f"no (best by M_CF: {fd.design_label(*fd.row_design(top_cf.iloc[0]))})",
         ),
-        (
-            "survey_paper_best_rank",
-            f"{label}: the paper's best design's rank",
-            "1 (Fig. 3C)",
-            _paper_best_rank(empirical, refined),
-        ),
         ("survey_rho_M_L", f"theory vs {engine}: Spearman rho of M_L over designs", BEYOND_MODELS, agree["M_L"].text()),
         (
             "survey_rho_M_CF",
@@ -90,6 +84,9 @@ def survey_rows(
             agree["M_CF"].text(),
         ),
     ]
+    rank = _paper_best_rank(empirical, refined)
+    if rank is not None:  # a survey of a grid without it and no refined row of it: no row
+        items.insert(4, ("survey_paper_best_rank", f"{label}: the paper's best design's rank", "1 (Fig. 3C)", rank))
     config = config_note(empirical, config_name)  # the survey's configuration: one note
     prefix = "" if label == "empirical survey" else f"{model}_"
     out = [
@@ -111,9 +108,10 @@ def survey_rows(
     return out
 
 
-def _paper_best_rank(survey: fd.ModelResults, refined: fd.ModelResults | None) -> str:
+def _paper_best_rank(survey: fd.ModelResults, refined: fd.ModelResults | None) -> str | None:
     """The rank by each metric of the paper's best design among the survey's designs: its own row,
-    or else its row of ``refined`` (same engine, same weight grid) ranked among them."""
+    or else its row of ``refined`` (same engine, same weight grid) ranked among them; None when
+    neither holds it."""
     from morphlearn import metrics
 
     t = survey.table
@@ -121,7 +119,7 @@ def _paper_best_rank(survey: fd.ModelResults, refined: fd.ModelResults | None) -
     if row is None and refined is not None and len(refined.weights) == len(survey.weights):
         row, where = refined.row(*PAPER_PHYSICS_BEST_DESIGN), " and it: its own metrics, every cell simulated"
     if row is None:
-        return "the design is not among the designs held"
+        return None
     ranks = ", ".join(f"{metrics.rank_of(t, row, by)} by {by}" for by in metrics.METRICS)
     return f"{ranks} (among the {len(t)} surveyed designs{where}; ties share a rank)"
 
