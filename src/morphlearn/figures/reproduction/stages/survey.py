@@ -115,7 +115,7 @@ def _paper_best_rank(survey: fd.ModelResults, refined: fd.ModelResults | None) -
     from morphlearn import metrics
 
     t = survey.table
-    row, where = metrics.find_row(t, PAPER_PHYSICS_BEST_DESIGN), ""
+    row, where = survey.row(*PAPER_PHYSICS_BEST_DESIGN), ""
     if row is None and refined is not None and len(refined.weights) == len(survey.weights):
         row, where = refined.row(*PAPER_PHYSICS_BEST_DESIGN), " and it: its own metrics, every cell simulated"
     if row is None:
@@ -130,9 +130,10 @@ def rows(t: TableInputs) -> list[dict[str, str]]:
     out: list[dict[str, str]] = []
     theory, survey, empirical = t.theory, t.survey, t.empirical
     if survey is not None and theory is not None and is_survey(theory, survey):
+        reference = survey.model == physics_models()[0]
         # the same engine's refined designs (they may hold the paper's best design, the survey's grid not)
-        refined = t.empirical if survey.model == physics_models()[0] else t.engines.get(survey.model)
-        if survey.model == physics_models()[0]:  # the reference engine's survey: the plain survey rows
+        refined = t.empirical if reference else t.engines.get(survey.model)
+        if reference:  # the reference engine's survey: the plain survey rows
             out += survey_rows(theory, survey, t.config_name, refined=refined)
         else:
             label = f"{fd.engine_label(survey.model)} survey"
