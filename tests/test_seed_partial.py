@@ -135,3 +135,13 @@ def test_seed_refuses_another_body_weights_levers_or_design(tmp_path: Path) -> N
         seed(folder, _settings(tmp_path, designs=[[[-0.5, -0.5], [0.5, -0.5]]]))
     with pytest.raises(rz.RefineError, match="model 'theory' keeps no partial designs"):
         seed(folder, _settings(tmp_path), model="theory")
+
+
+def test_seed_takes_the_model_from_the_folders_engine(tmp_path: Path) -> None:
+    """A MuJoCo folder is refused as MuJoCo's (no partial designs), not as a config that does not
+    simulate pybullet (the message named the wrong model before)."""
+    pytest.importorskip("mujoco")
+    folder = _folder(tmp_path, max_rows=1, engine="mujoco")
+    refused = r"model 'mujoco' keeps no partial designs; allowed: \['empirical', 'ode'\]"
+    with pytest.raises(rz.RefineError, match=refused):
+        seed(folder, _settings(tmp_path))

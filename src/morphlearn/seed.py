@@ -60,11 +60,12 @@ class Seeded:
     finished: bool  # the design is already in the design cache: nothing written
 
 
-def seed(folder: str | Path, s: Settings, model: str = "empirical") -> Seeded:
-    """Write ``folder``'s episodes as the partial file of its design in ``s``'s design cache."""
-    plugin = _plugin(s, model)
+def seed(folder: str | Path, s: Settings, model: str | None = None) -> Seeded:
+    """Write ``folder``'s episodes as the partial file of its design in ``s``'s design cache (the
+    model: the one running the folder's engine, unless named)."""
     asm = rz.assemble(folder)
     job = rz.job_from_manifest(asm.manifest)
+    plugin = _plugin(s, model or _model_of_engine(job.engine))
     e = plugin.settings(s)
     w = plugin.weights(s)
     _check_same_episodes(job, plugin.engine, e.params, e.options, w)
@@ -113,6 +114,11 @@ def seed_designs(cache: str | Path, s: Settings) -> list[Seeded]:
         take = r.status != STATUS_INFERRED
         out.append(_into_partial(plugin, s, d, r, take, int(take.sum())))
     return out
+
+
+def _model_of_engine(engine: str) -> str:
+    """The workflow model that runs ``engine`` (a MuJoCo folder is MuJoCo's, not pybullet's)."""
+    return next((n for n, m in models.MODELS.items() if getattr(m, "engine", None) == engine), engine)
 
 
 def _plugin(s: Settings, model: str) -> Any:
