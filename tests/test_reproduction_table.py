@@ -175,7 +175,7 @@ def test_the_paper_best_design_is_ranked_among_a_survey_that_lacks_it() -> None:
     others.loc[:, "M_CF"] = 0.0
     survey = dataclasses.replace(ode, table=others)
     said = _paper_best_rank(survey, ode)
-    assert said.startswith("3 by M_L, 1 by M_CF (among the 4 surveyed designs and it:"), said
+    assert said.startswith(f"3 by M_L, 1 by M_CF (among the {len(others)} surveyed designs and it:"), said
     assert _paper_best_rank(ode, None).startswith("1 by M_L, ")  # the design's own row
     assert _paper_best_rank(survey, None) is None  # no row
     coarse = dataclasses.replace(ode, ds=ode.ds.isel(w1=slice(0, 11)))  # another weight grid
