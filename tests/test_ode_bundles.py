@@ -9,55 +9,43 @@ run's bytes: that is what lets the survey rank the 5-point grid as an exhaustive
 
 from __future__ import annotations
 
-import json
 from pathlib import Path
 
 import numpy as np
-import pandas as pd
 import pytest
 
 from morphlearn import configure, metrics, models, store
-from morphlearn.grid import DesignGrid
+from morphlearn.figures import data as fd
 from morphlearn.results import STATUS_INFERRED
 
 ROOT = Path(__file__).resolve().parents[1]
 SURVEY, EXHAUSTIVE = ROOT / "results/ode-survey", ROOT / "results/ode-paper"
-
-
-def _store(bundle: Path) -> tuple[object, DesignGrid]:
-    ds = store.open_merged(bundle / "ode" / "merged.zarr")
-    return ds, DesignGrid(int(json.loads(ds.attrs["science_json"])["positions_per_axis"]))
-
-
-def _shared() -> list[tuple[int, int, int, int]]:
-    """(exhaustive design, its position there, survey design, its position there) for every design
-    of the exhaustive bundle whose sensors lie on the survey's grid and whose outcomes it stores."""
-    (exh, g_exh), (sur, g_sur) = _store(EXHAUSTIVE), _store(SURVEY)
-    out = []
-    for i, d in enumerate(exh["design"].values):
-        c = g_exh.coords([int(d)])[0]
-        try:
-            s = g_sur.index_of((float(c[0]), float(c[1])), (float(c[2]), float(c[3])))
-        except ValueError:
-            continue  # not on the survey's grid (e.g. the paper's best design, y = 0.125)
-        at = np.flatnonzero(sur["design"].values == s)
-        if at.size:
-            out.append((int(d), i, s, int(at[0])))
-    return out
+Shared = tuple[fd.ModelResults, fd.ModelResults, list[tuple[int, int, int, int]]]
 
 
 @pytest.fixture(scope="module")
-def shared() -> list[tuple[int, int, int, int]]:
-    return _shared()
+def shared() -> Shared:
+    """Both bundles (read and checked as the figures read them) and, for every design of the
+    exhaustive one whose outcomes the survey stores (matched by sensor coordinates: the two lie on
+    different grids), (exhaustive design, its position there, survey design, its position there)."""
+    exh, sur = fd.load_results(EXHAUSTIVE, "ode"), fd.load_results(SURVEY, "ode")
+    assert exh is not None and sur is not None
+    out = []
+    for r in exh.table.itertuples():
+        l1, l2 = (r.l1x, r.l1y), (r.l2x, r.l2y)
+        j = sur.find(l1, l2)  # None: not on the survey's grid (the paper's best design, y = 0.125)
+        if j is not None:
+            out.append((int(r.design), exh.position(l1, l2), int(sur.row(l1, l2).design), j))
+    return exh, sur, out
 
 
-def test_the_survey_misses_no_success_of_the_exhaustive_runs(shared: list[tuple[int, int, int, int]]) -> None:
+def test_the_survey_misses_no_success_of_the_exhaustive_runs(shared: Shared) -> None:
     th = models.get("ode").thresholds(configure.load(ROOT / "config.yaml", [ROOT / "config/ode_paper.yaml"]))
-    (exh, _), (sur, _) = _store(EXHAUSTIVE), _store(SURVEY)
+    exh, sur, pairs = shared
     # the ten refined designs: eight lie on the 5-point grid and are among the survey's stored designs
-    assert [d for d, *_ in shared] == [234, 240, 396, 398, 560, 720, 722, 6552]
-    for d, i, _, j in shared:
-        a, b = store.read_design(exh, i), store.read_design(sur, j)
+    assert [d for d, *_ in pairs] == [234, 240, 396, 398, 560, 720, 722, 6552]
+    for d, i, _, j in pairs:
+        a, b = store.read_design(exh.ds, i), store.read_design(sur.ds, j)
         assert not (a["status"] == STATUS_INFERRED).any(), f"design {d}: the exhaustive run inferred cells"
         sa, sb = (
             metrics.success(a["first_time"], a["min_dist"], th),
@@ -70,9 +58,9 @@ def test_the_survey_misses_no_success_of_the_exhaustive_runs(shared: list[tuple[
             assert a[k][simulated].tobytes() == b[k][simulated].tobytes(), f"design {d}: {k} differs"
 
 
-def test_the_survey_metrics_are_the_exhaustive_metrics(shared: list[tuple[int, int, int, int]]) -> None:
-    exh = pd.read_csv(EXHAUSTIVE / "ode" / "metrics.csv").set_index("design")
-    sur = pd.read_csv(SURVEY / "ode" / "metrics.csv").set_index("design")
+def test_the_survey_metrics_are_the_exhaustive_metrics(shared: Shared) -> None:
+    exh, sur, pairs = shared
+    e, s = exh.table.set_index("design"), sur.table.set_index("design")
     cols = ["n_45", "n_135", "n_225", "n_315", "generalists", "at_least_one", "M_L", "M_CF"]
-    for d, _, s, _ in shared:
-        assert exh.loc[d, cols].tolist() == sur.loc[s, cols].tolist(), d
+    for d, _, ds, _ in pairs:
+        assert e.loc[d, cols].tolist() == s.loc[ds, cols].tolist(), d
