@@ -206,11 +206,15 @@ def test_rank_agreement_and_sensor_use() -> None:
     assert compare.agreement(noisy, n_resamples=300)["M_L"] == n  # seeded: same interval
     flat = compare.joined(t, _table(np.zeros(30), np.zeros(30)))
     assert "undefined" in compare.agreement(flat, n_resamples=50)["M_L"].text()
-    # one or two designs in both (a physics run of a few refined designs): no rank correlation
-    # (two give rho = +-1 whatever they hold), said in words, not a bootstrap error
-    for k in (1, 2):
+    # one to four designs in both (a physics run of a few refined designs): no rank correlation
+    # (rho = +-1 by chance with probability 2 / n!: 8 % at 4), said in words, not a bootstrap error
+    assert compare.MIN_DESIGNS == 5
+    for k in (1, 2, 3, 4):
         few = compare.agreement(compare.joined(t.head(k), _table(x[:k], x[:k])), n_resamples=200)["M_L"]
         assert np.isnan(few.rho) and few.n == k and f"only {k} design" in few.text()
+        assert "needs 5 to tell agreement from chance" in few.text()
+    five = compare.agreement(compare.joined(t.head(5), _table(x[:5], x[:5])), n_resamples=200)["M_L"]
+    assert five.n == 5 and five.rho == pytest.approx(1.0) and "5 designs" in five.text()
     assert same.rank_M_L_theory.tolist() == list(range(30, 0, -1))  # best (largest) ranks 1
     use = compare.sensor_use(t, 4)
     assert use["count"].sum() == 8 and len(use) == 9  # 4 designs x 2 sensors on the 3 x 3 positions

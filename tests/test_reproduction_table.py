@@ -186,15 +186,17 @@ def test_the_paper_best_design_is_ranked_among_a_survey_that_lacks_it() -> None:
     assert not [r for r in survey_rows(theory5, pybullet5, "cfg") if r["key"].endswith("paper_best_rank")]
 
 
-def test_engine_agreement_on_two_shared_designs_is_one_row_not_four_undefined() -> None:
-    from morphlearn.figures.reproduction.stages.engines import MIN_DESIGNS, engine_rows
+def test_engine_agreement_on_a_few_shared_designs_is_one_row_not_four_undefined() -> None:
+    from morphlearn.compare import MIN_DESIGNS
+    from morphlearn.figures.reproduction.stages.engines import engine_rows
 
     emp = fd.load_results(ROOT / "results/paper", "empirical", None)
-    mj = dataclasses.replace(emp, model="mujoco")  # the same 2 designs
-    assert emp.n_designs < MIN_DESIGNS
+    mj = dataclasses.replace(emp, model="mujoco")  # the same 3 designs
+    assert emp.n_designs == 3 < MIN_DESIGNS
     rows = engine_rows(emp, mj, ("empirical", "mujoco"), "MuJoCo", "cfg")
     said = [r["ours"] for r in rows if "Spearman" in r["quantity"]]
     assert len(said) == 1 and said[0].startswith(f"not computed: the two hold {emp.n_designs} designs in common")
+    assert said[0].endswith(f"at least {MIN_DESIGNS} to tell agreement from chance")
     assert not any("undefined" in r["ours"] for r in rows)
 
 

@@ -27,8 +27,10 @@ PAIR: tuple[str, str] = tuple(models.MODELS)[:2]  # type: ignore[assignment]
 
 #: Fewest bootstrap resamples of an interval: the config's ``learners.bootstrap`` minimum (one rule).
 MIN_RESAMPLES: int = config.schema()["properties"]["learners"]["properties"]["bootstrap"]["minimum"]
-#: Fewest designs a rank agreement is computed over (two designs give rho = +-1 whatever they hold).
-MIN_DESIGNS = 3
+#: Fewest designs a rank agreement is computed over: with n designs and no association, a perfect
+#: agreement (rho = +-1) comes by chance with probability 2 / n!, under 5 % from n = 5 (4 designs: 8 %;
+#: 3: 33 %), so fewer cannot tell agreement from chance, and their bootstrap interval is degenerate.
+MIN_DESIGNS = 5
 
 
 def read_table(path: str | Path) -> pd.DataFrame:
@@ -121,7 +123,8 @@ class RankAgreement:
     def text(self) -> str:
         if self.n < MIN_DESIGNS:
             some = f"{self.n} design{'s' if self.n != 1 else ''}"
-            return f"undefined (only {some} in both; a rank correlation needs {MIN_DESIGNS})"
+            why = f"a rank correlation needs {MIN_DESIGNS} to tell agreement from chance"
+            return f"undefined (only {some} in both; {why})"
         if np.isnan(self.rho):
             return f"undefined (one model gives every one of the {self.n} designs the same value)"
         interval = f"{self.level:.0%} bootstrap interval, {self.n} designs"
@@ -135,7 +138,7 @@ def spearman_ci(
     (seeded: the same inputs give the same interval; resamples in which a side is constant, rho
     undefined, are left out of the interval)."""
     x, y = np.asarray(x, float), np.asarray(y, float)
-    if len(x) < MIN_DESIGNS:  # e.g. a physics run of one refined design: no ranks to compare
+    if len(x) < MIN_DESIGNS:  # e.g. a physics run of a few refined designs: no ranks to compare
         return RankAgreement(metric, len(x), np.nan, np.nan, np.nan, level)
     rho = float(stats.spearmanr(x, y).statistic)
 

@@ -11,9 +11,6 @@ from morphlearn.figures.reproduction.stages.refined import refined_rows
 from morphlearn.figures.reproduction.stages.survey import survey_rows
 from morphlearn.figures.reproduction.text import config_note
 
-#: A rank correlation needs at least this many designs held by both engines.
-MIN_DESIGNS = 3
-
 
 def engine_rows(
     reference: fd.ModelResults, other: fd.ModelResults, names: tuple[str, str], label: str, config_name: str
@@ -27,14 +24,14 @@ def engine_rows(
     a, b = names
     ref = fd.engine_label(a)
     items = []
-    ranked = len(both) >= MIN_DESIGNS
+    ranked = len(both) >= compare.MIN_DESIGNS
     if not ranked:  # one row says so, not four "undefined" rows
         items.append(
             (
                 "rho_not_computed",
                 f"{ref} vs {label}: Spearman rho of M_L and M_CF over designs",
                 f"not computed: the two hold {len(both)} designs in common, and a rank correlation needs "
-                f"at least {MIN_DESIGNS}",
+                f"at least {compare.MIN_DESIGNS} to tell agreement from chance",
             )
         )
     for m in metrics.METRICS:
@@ -46,7 +43,7 @@ def engine_rows(
             continue
         ag = compare.spearman_ci(both[f"{m}_{a}"], both[f"{m}_{b}"], m)
         nz = both[(both[f"{m}_{a}"] > 0) | (both[f"{m}_{b}"] > 0)]
-        ag_nz = compare.spearman_ci(nz[f"{m}_{a}"], nz[f"{m}_{b}"], m)  # fewer than 3: "undefined"
+        ag_nz = compare.spearman_ci(nz[f"{m}_{a}"], nz[f"{m}_{b}"], m)  # too few: "undefined"
         items += [
             (f"rho_{m}", f"{ref} vs {label}: Spearman rho of {m} over designs", ag.text()),
             (
