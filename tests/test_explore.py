@@ -247,7 +247,7 @@ def test_hover_names_the_design_its_sensors_and_metrics(paper: explore.Explorer)
     assert fig.axes[0].format_coord(-5, -5) == ""
     plt.close(fig)
     emp = explore.Explorer(explore.open_source(explore.Source(RESULTS / "paper", "empirical")))
-    assert "not simulated in this bundle (2 designs are)" in emp.hover(0)
+    assert "not simulated in this bundle (3 designs are)" in emp.hover(0)
 
 
 def test_view_round_trips_through_the_url() -> None:
@@ -330,12 +330,12 @@ def test_app_keeps_the_design_across_sources_and_opens_a_shared_view() -> None:
     assert app.design == 720 and app.w == pytest.approx((0.6, 0.95)) and app.w_rank_by.value == "M_CF"
     assert app.w_top.options[0][1] == app.ex.best("M_CF")  # the top-N table ranks by the URL's metric
     assert explore.parse_view(app.bridge.query).design == 720
-    # the bundle's models side by side: design 720 is in all four (ODE holds it among its five)
+    # the bundle's models side by side: design 720 is in all four (ODE holds it among its ten, pybullet among its three)
     rows = {r["engine"]: r for r in app.engines()}
     assert set(rows) == {"theory", "ODE", "pybullet", "MuJoCo"}
     assert all(r["M_L"] is not None and r["landscape"] is not None for r in rows.values())
     assert len(app.fig_engines.axes) == 5  # four matrices and their colour bar
-    assert "rank 1 of 2" in explore_app.engines_html(app.engines(), "paper")
+    assert "rank 1 of 3" in explore_app.engines_html(app.engines(), "paper")
     # another source of the same bundle: the same design
     app.w_source.value = "mujoco (paper)"
     assert app.design == 720 and app.land.source == "bundle"
