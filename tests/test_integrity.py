@@ -84,7 +84,7 @@ def test_damaged_chunk_stops_metrics_by_name_before_anything_is_written(
         text=True,
     )
     assert proc.returncode == 2 and f"min_dist of design {design}" in proc.stderr, proc.stderr
-    assert proc.stderr.count("\n") == 1
+    assert proc.stderr.count("\n") == 1, proc.stderr
 
 
 def test_metrics_provenance_records_the_overall_digest(merged: Path, tmp_path: Path) -> None:

@@ -61,7 +61,7 @@ def test_every_claim_kind_has_a_stated_tolerance_and_the_rule_is_note_one() -> N
 
 @pytest.fixture(scope="module")
 def paper_table() -> pd.DataFrame:
-    """The table of the committed paper bundle (theory at paper resolution; pybullet on 2 designs,
+    """The table of the committed paper bundle (theory at paper resolution; pybullet on 3 designs,
     MuJoCo on 41, both at 121 x 121) as the reproduction rule builds it."""
     b = ROOT / "results/paper"
     theory = fd.load_results(b, "theory", None)

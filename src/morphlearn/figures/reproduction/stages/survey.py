@@ -76,6 +76,11 @@ def survey_rows(
             "yes",
             "yes" if same_pair else f"no (best by M_CF: {fd.design_label(*fd.row_design(top_cf.iloc[0]))})",
         ),
+    ]
+    rank = _paper_best_rank(empirical, refined)
+    if rank is not None:  # a survey of a grid without it and no refined row of it: no row
+        items.append(("survey_paper_best_rank", f"{label}: the paper's best design's rank", "1 (Fig. 3C)", rank))
+    items += [  # beyond the paper, after its claims
         ("survey_rho_M_L", f"theory vs {engine}: Spearman rho of M_L over designs", BEYOND_MODELS, agree["M_L"].text()),
         (
             "survey_rho_M_CF",
@@ -84,9 +89,6 @@ def survey_rows(
             agree["M_CF"].text(),
         ),
     ]
-    rank = _paper_best_rank(empirical, refined)
-    if rank is not None:  # a survey of a grid without it and no refined row of it: no row
-        items.insert(4, ("survey_paper_best_rank", f"{label}: the paper's best design's rank", "1 (Fig. 3C)", rank))
     config = config_note(empirical, config_name)  # the survey's configuration: one note
     prefix = "" if label == "empirical survey" else f"{model}_"
     out = [
