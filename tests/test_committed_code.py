@@ -141,21 +141,20 @@ def test_the_refine_folders_from_uncommitted_code_equal_their_clean_remake() -> 
     """The three exhaustive MuJoCo folders of results/refine whose manifests name a '-dirty' commit
     (made by the tool before the workflow could) are kept as made, and vouched for by their re-make
     at a clean commit, results/refine-exhaustive-mujoco: every cell of the three arrays the same."""
-    from morphlearn import grid, resumable
+    from morphlearn import resumable
+    from morphlearn.figures import data as fd
 
     dirty = sorted(
         f.parent.name for f in (ROOT / "results/refine").glob("*/manifest.json") if "-dirty" in f.read_text()
     )
     assert dirty == ["mujoco_canonical_121", "mujoco_d120_121", "mujoco_d196_121"]  # a new one needs its re-make
-    remake = store.open_merged(ROOT / "results/refine-exhaustive-mujoco/mujoco/merged.zarr")
-    held = remake["design"].values.tolist()
+    remake = fd.load_results(ROOT / "results/refine-exhaustive-mujoco", "mujoco")  # custody-checked
+    assert remake is not None
     for name in dirty:
         a = resumable.assemble(ROOT / "results/refine" / name)
         assert a.complete, name
-        design = grid.DesignGrid(9).index_of(
-            tuple(a.manifest["identity"]["design"]["l1"]), tuple(a.manifest["identity"]["design"]["l2"])
-        )
-        ref = store.read_design(remake, held.index(design))
+        job = resumable.job_from_manifest(a.manifest)
+        ref = store.read_design(remake.ds, remake.position(job.l1, job.l2, why=name))
         for k in store.VARS:
             got = np.asarray(getattr(a.result, k))
             assert got.dtype == ref[k].dtype and got.tobytes() == ref[k].tobytes(), (name, k)
