@@ -17,6 +17,11 @@ class UsageError(ValueError):
     """Bad command-line input: one line, exit code 2."""
 
 
+class EngineError(RuntimeError):
+    """A physics engine stopped with an error of its own (ODE's error handler, ``ode/_core.c``)
+    instead of aborting the interpreter: one line naming the engine's message, exit code 1."""
+
+
 @contextmanager
 def c_stdout_to_stderr() -> Iterator[None]:
     """Send what C libraries print to stdout (pybullet's banner) to stderr, so ``--json`` output

@@ -7,12 +7,22 @@
  *
  * One call, run_batch, runs n episodes one after another, each in its own world (no episode can
  * depend on another: tested alone, in a batch and in reverse order), with the GIL released.
+ *
+ * ODE reports through three handlers, all routed here (the guard below): a message (dMessage,
+ * e.g. "LCP internal error") is counted and its first text kept, for the caller to say once; an
+ * error or an internal assertion (dError, dDebug: "inertia must be positive definite", an AABB
+ * beyond its integer range) would abort the interpreter after the handler returns, so the handler
+ * jumps (longjmp) out of the episode instead, the world of that episode is left unfreed (ODE may be
+ * mid-step: freeing it is not safe), the batch stops and the call raises one RuntimeError.
  * Built against Debian's libode-dev 0.16 (double precision) by setuptools (setup.py).
  */
 #define PY_SSIZE_T_CLEAN
 #include <Python.h>
 
 #include <math.h>
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stdio.h>
 #include <stdint.h>
 #include <string.h>
 #include <time.h>
@@ -35,6 +45,52 @@
 #define SLIP 0.01
 
 enum { GROUP_NONE = 0, GROUP_ROBOT = 1, GROUP_ENV = 2, GROUP_GROUND = 3 };
+
+/* -- ODE's messages and errors (see the top of this file) ------------------------------------- */
+
+typedef struct {
+    jmp_buf jump;
+    int armed;           /* an episode is running: an error jumps back to it */
+    int failed;          /* an error happened; its text in error */
+    char error[240];
+    long messages;       /* dMessage calls */
+    int message_num;     /* the first one's number and text */
+    char message[240];
+} Guard;
+
+/* The guard of the call running on this thread (the GIL is released while episodes run). */
+static _Thread_local Guard *guard = NULL;
+
+static void fail_with(const char *kind, int num, const char *msg, va_list ap) {
+    Guard *g = guard;
+    char text[200];
+    vsnprintf(text, sizeof text, msg, ap);
+    if (g == NULL || !g->armed) { /* not inside an episode: ODE aborts after this returns */
+        fprintf(stderr, "%s %d: %s\n", kind, num, text);
+        return;
+    }
+    snprintf(g->error, sizeof g->error, "%s %d: %s", kind, num, text);
+    for (char *c = g->error; *c; c++)
+        if (*c == '\n' || *c == '\r') *c = ' ';
+    g->armed = 0;
+    g->failed = 1;
+    longjmp(g->jump, 1);
+}
+
+static void on_error(int num, const char *msg, va_list ap) { fail_with("ODE error", num, msg, ap); }
+
+static void on_debug(int num, const char *msg, va_list ap) { fail_with("ODE internal error", num, msg, ap); }
+
+static void on_message(int num, const char *msg, va_list ap) {
+    Guard *g = guard;
+    if (g == NULL) return; /* outside a call: nothing to report it to */
+    if (g->messages++ == 0) {
+        g->message_num = num;
+        vsnprintf(g->message, sizeof g->message, msg, ap);
+        for (char *c = g->message; *c; c++)
+            if (*c == '\n' || *c == '\r') *c = ' ';
+    }
+}
 
 /* Body parameters, in this order in the Python tuple (morphlearn.ode.core.params_tuple). */
 typedef struct {
@@ -199,11 +255,15 @@ typedef struct {
  * success_radius of the light as placed (-1: none), the closest 2D distance up to that step (or
  * over the whole episode if !stop_at_success), the steps simulated, and whether the state stayed
  * finite. With path != NULL, writes the chassis (x, y) read at each step, in the project's frame
- * (2 * steps doubles; the caller fills NaN). */
-static void episode(const Params *p, const double *s1, const double *s2, double w1, double w2, double lx,
-                    double ly, int stop_at_success, int64_t *first, double *dmin, int64_t *steps,
-                    uint8_t *finite, double *path, Timing *timing) {
+ * (2 * steps doubles; the caller fills NaN). Returns 0, or -1 after an ODE error (the guard holds
+ * its text; the outputs are not written). */
+static int episode(const Params *p, const double *s1, const double *s2, double w1, double w2, double lx,
+                   double ly, int stop_at_success, int64_t *first, double *dmin, int64_t *steps,
+                   uint8_t *finite, double *path, Timing *timing) {
     World W;
+    Guard *g = guard;
+    if (setjmp(g->jump)) return -1; /* an ODE error (fail_with): W is left unfreed */
+    g->armed = 1;
     world_build(&W, p, s1, s2, lx, ly);
     CollideData cd = {W.world, W.contacts};
     const dBodyID chassis = W.body[B_CHASSIS];
@@ -241,6 +301,8 @@ static void episode(const Params *p, const double *s1, const double *s2, double 
     *steps = k;
     *finite = ok;
     world_destroy(&W);
+    g->armed = 0;
+    return 0;
 }
 
 /* -- Python ----------------------------------------------------------------------------------- */
@@ -248,9 +310,23 @@ static void episode(const Params *p, const double *s1, const double *s2, double 
 /* "O&" converter: the params tuple of morphlearn.ode.core.params_tuple into Params. */
 static int parse_params(PyObject *o, void *out) {
     Params *p = (Params *)out;
-    return PyArg_ParseTuple(o, "ddddddddddld;params: a tuple of 12 body values (core.params_tuple)", &p->body_mass,
-                            &p->wheel_mass, &p->castor_mass, &p->wheel_radius, &p->max_speed, &p->max_torque,
-                            &p->wheel_setback, &p->light_radius, &p->gravity, &p->dt, &p->steps, &p->success_radius);
+    if (!PyArg_ParseTuple(o, "ddddddddddld;params: a tuple of 12 body values (core.params_tuple)", &p->body_mass,
+                          &p->wheel_mass, &p->castor_mass, &p->wheel_radius, &p->max_speed, &p->max_torque,
+                          &p->wheel_setback, &p->light_radius, &p->gravity, &p->dt, &p->steps, &p->success_radius))
+        return 0;
+    /* the ranges are the caller's (morphlearn.physics.params); here only what C itself relies on */
+    const double v[] = {p->body_mass, p->wheel_mass, p->castor_mass, p->wheel_radius, p->max_speed, p->max_torque,
+                        p->wheel_setback, p->light_radius, p->gravity, p->dt, p->success_radius};
+    for (size_t i = 0; i < sizeof v / sizeof v[0]; i++)
+        if (!isfinite(v[i])) {
+            PyErr_SetString(PyExc_ValueError, "params: every body value must be finite");
+            return 0;
+        }
+    if (p->steps < 1) {
+        PyErr_SetString(PyExc_ValueError, "params: steps must be >= 1");
+        return 0;
+    }
+    return 1;
 }
 
 /* project frame (x forward, y left) -> the authors' frame (x right, y forward): exact */
@@ -285,8 +361,13 @@ static PyObject *run_batch(PyObject *self, PyObject *args) {
     if (!PyArg_ParseTuple(args, "O&nOOOOOOOpO|p", parse_params, &p, &n, &o[0], &o[1], &o[2], &o[3], &o[4], &o[5],
                           &o[6], &stop_at_success, &o[7], &timed))
         return NULL;
-    if (n < 0 || p.steps < 1) {
-        PyErr_SetString(PyExc_ValueError, "n must be >= 0 and steps >= 1");
+    if (n < 0) {
+        PyErr_SetString(PyExc_ValueError, "n must be >= 0");
+        return NULL;
+    }
+    /* the sizes below are products: refuse any that Py_ssize_t cannot hold (4 n; 2 n steps) */
+    if (n > PY_SSIZE_T_MAX / 4 || (n > 0 && p.steps > PY_SSIZE_T_MAX / 2 / n)) {
+        PyErr_Format(PyExc_ValueError, "n = %zd episodes of %ld steps: the buffers' sizes overflow", n, p.steps);
         return NULL;
     }
     static const char *names[] = {"sensors", "weights", "lights", "first_step", "d_min", "steps", "finite"};
@@ -311,20 +392,40 @@ static PyObject *run_batch(PyObject *self, PyObject *args) {
             goto fail;
         }
     Timing timing = {0, 0};
+    Guard g;
+    memset(&g, 0, sizeof g);
+    Py_ssize_t failed_at = -1;
     Py_BEGIN_ALLOW_THREADS;
+    guard = &g;
     for (Py_ssize_t i = 0; i < n; i++) {
         double s1[2], s2[2], l[2];
         to_authors(sen + 4 * i, s1);
         to_authors(sen + 4 * i + 2, s2);
         to_authors(li + 2 * i, l);
-        episode(&p, s1, s2, w[2 * i], w[2 * i + 1], l[0], l[1], stop_at_success, (int64_t *)b[3].buf + i,
-                (double *)b[4].buf + i, (int64_t *)b[5].buf + i, (uint8_t *)b[6].buf + i,
-                with_path ? (double *)b[7].buf + 2 * i * p.steps : NULL, timed ? &timing : NULL);
+        if (episode(&p, s1, s2, w[2 * i], w[2 * i + 1], l[0], l[1], stop_at_success, (int64_t *)b[3].buf + i,
+                    (double *)b[4].buf + i, (int64_t *)b[5].buf + i, (uint8_t *)b[6].buf + i,
+                    with_path ? (double *)b[7].buf + 2 * i * p.steps : NULL, timed ? &timing : NULL) < 0) {
+            failed_at = i;
+            break;
+        }
     }
+    guard = NULL;
     Py_END_ALLOW_THREADS;
     for (int i = 0; i < got; i++) PyBuffer_Release(&b[i]);
-    if (timed) return Py_BuildValue("{s:d,s:d}", "collide", timing.collide, "world_step", timing.step);
-    Py_RETURN_NONE;
+    if (failed_at >= 0) {
+        PyErr_Format(PyExc_RuntimeError, "%s (episode %zd of %zd; the batch stopped there)", g.error, failed_at + 1, n);
+        return NULL;
+    }
+    PyObject *out = Py_BuildValue("{s:l,s:i,s:s}", "messages", g.messages, "message_num", g.message_num, "message",
+                                  g.message);
+    if (out && timed) {
+        PyObject *c = PyFloat_FromDouble(timing.collide), *s = PyFloat_FromDouble(timing.step);
+        if (!c || !s || PyDict_SetItemString(out, "collide", c) < 0 || PyDict_SetItemString(out, "world_step", s) < 0)
+            Py_CLEAR(out);
+        Py_XDECREF(c);
+        Py_XDECREF(s);
+    }
+    return out;
 fail:
     for (int i = 0; i < got; i++) PyBuffer_Release(&b[i]);
     return NULL;
@@ -351,7 +452,18 @@ static PyObject *facts(PyObject *self, PyObject *args) {
     to_authors(sen + 2, s2);
     to_authors(li, l);
     World W;
+    Guard gd;
+    memset(&gd, 0, sizeof gd);
+    guard = &gd;
+    if (setjmp(gd.jump)) {
+        guard = NULL;
+        PyErr_Format(PyExc_RuntimeError, "%s (building the world)", gd.error);
+        return NULL;
+    }
+    gd.armed = 1;
     world_build(&W, &p, s1, s2, l[0], l[1]);
+    gd.armed = 0;
+    guard = NULL;
     PyObject *out = PyDict_New(), *bodies = PyList_New(0), *joints = PyList_New(0), *pairs = PyList_New(0);
     dVector3 g;
     dWorldGetGravity(W.world, g);
@@ -436,7 +548,8 @@ static PyObject *version(PyObject *self, PyObject *noargs) { return PyUnicode_Fr
 
 static PyMethodDef methods[] = {
     {"run_batch", run_batch, METH_VARARGS,
-     "run_batch(params, n, sensors, weights, lights, first_step, d_min, steps, finite, stop_at_success, path[, timed])"},
+     "run_batch(params, n, sensors, weights, lights, first_step, d_min, steps, finite, stop_at_success, path[, timed]) "
+     "-> {messages, message_num, message[, collide, world_step]}; an ODE error raises RuntimeError"},
     {"facts", facts, METH_VARARGS, "facts(params, sensors, light, w1, w2): the world as built, read back."},
     {"version", version, METH_NOARGS, "The ODE version the core was built against (ode/version.h)."},
     {"config", config, METH_NOARGS, "ODE's build configuration string (dGetConfiguration)."},
@@ -449,5 +562,8 @@ PyMODINIT_FUNC PyInit__core(void) {
         PyErr_SetString(PyExc_ImportError, "dInitODE2 failed");
         return NULL;
     }
+    dSetErrorHandler(on_error);
+    dSetDebugHandler(on_debug);
+    dSetMessageHandler(on_message);
     return PyModule_Create(&module);
 }

@@ -7,12 +7,15 @@ library in one line when the extension was not built (Debian's ``libode-dev`` ab
 
 from __future__ import annotations
 
+import sys
+from collections import Counter
 from dataclasses import dataclass
 from types import ModuleType
 from typing import Any
 
 import numpy as np
 
+from morphlearn.errors import EngineError
 from morphlearn.grid import light_positions
 from morphlearn.physics.authors import success_radius
 from morphlearn.physics.params import EmpiricalParams
@@ -25,6 +28,15 @@ INSTALL_HINT = (
 
 class OdeUnavailableError(RuntimeError):
     """The C core is not built (no ODE library at set-up)."""
+
+
+class OdeEngineError(EngineError):
+    """ODE stopped with an error or a failed internal assertion (its handler in ``_core.c`` jumps
+    out of the episode instead of letting ODE abort the interpreter): one line, the engine's own."""
+
+
+#: ODE's messages (dMessage, e.g. "LCP internal error") this process was given: number -> count.
+MESSAGES: Counter[int] = Counter()
 
 
 def core() -> ModuleType:
@@ -118,20 +130,41 @@ def run(
     steps = np.empty(n, np.int64)
     finite = np.empty(n, np.uint8)
     track = np.full((n, p.steps, 2), np.nan) if path else None
-    spent = core().run_batch(
-        params_tuple(p),
-        n,
-        sensors,
-        w,
-        lights,
-        first,
-        dmin,
-        steps,
-        finite,
-        bool(stop_at_success),
-        track,
-        timing is not None,
-    )
+    try:
+        spent = core().run_batch(
+            params_tuple(p),
+            n,
+            sensors,
+            w,
+            lights,
+            first,
+            dmin,
+            steps,
+            finite,
+            bool(stop_at_success),
+            track,
+            timing is not None,
+        )
+    except RuntimeError as e:
+        raise OdeEngineError(f"the ODE engine failed on these body values: {e}") from None
+    _report(spent, n)
     if timing is not None:
-        timing.update(spent)
+        timing.update({k: spent[k] for k in ("collide", "world_step")})
     return Episodes(first, dmin, steps, finite.astype(bool)), track
+
+
+def _report(spent: dict[str, Any], n: int) -> None:
+    """ODE's messages of a batch, counted in :data:`MESSAGES` and said once per message number per
+    process (one line on stderr): a message repeated every step is one line, not one per step."""
+    count, num = int(spent["messages"]), int(spent["message_num"])
+    if not count:
+        return
+    first = num not in MESSAGES
+    MESSAGES[num] += count
+    if first:
+        text = " ".join(str(spent["message"]).split())
+        print(
+            f"morphlearn: ODE message {num}: {text} ({count} times in a batch of {n} episodes; "
+            "said once per process, counted in morphlearn.ode.core.MESSAGES)",
+            file=sys.stderr,
+        )
