@@ -45,6 +45,22 @@ DEFAULT_MORPHOLOGY = "config/empirical_morphology.yaml"
 ROBOT_BODIES = {"project": DEFAULT_MORPHOLOGY, "authors": "config/authors_body.yaml"}
 
 
+def other_robots_body(robot: str, morphology: str | Path) -> str | None:
+    """Why body file ``morphology`` is not for ``robot`` (None when it may be): it is another
+    robot's own body file. One robot's geometry with another robot's body file is no robot of
+    either (it once ran unnoticed: the authors' robot with the project's masses, motor and
+    gravity); the config (``<model>.morphology``) and ``morphlearn design --morphology`` refuse it."""
+
+    def same(a: str | Path, b: str | Path) -> bool:  # also ./x, an absolute path or a symlink to it
+        try:
+            return Path(a).resolve() == Path(b).resolve()
+        except (OSError, ValueError):  # a name the file system cannot hold is no one's body file
+            return False
+
+    other = [r for r, f in ROBOT_BODIES.items() if r != robot and same(f, morphology)]
+    return f"is the {other[0]} robot's body file" if other else None
+
+
 @dataclass(frozen=True)
 class PhysicsSettings:
     """A physics model's section, typed, with its body file read (once)."""
@@ -104,14 +120,11 @@ class Physics(Model):
         if robot not in self.robots:
             raise ConfigError(f"{self.name}.robot = {robot!r} is invalid; allowed: {list(self.robots)}")
         morphology = sec.get("morphology") or ROBOT_BODIES[robot]
-        # one robot's geometry with another robot's body file is no robot of either (it once ran
-        # unnoticed: the authors' robot with the project's masses, motor and gravity)
-        other = [r for r, f in ROBOT_BODIES.items() if r != robot and Path(f) == Path(morphology)]
-        if other:
+        mismatch = other_robots_body(robot, morphology)
+        if mismatch:
             raise ConfigError(
-                f"{self.name}.morphology = {morphology!r} is the {other[0]} robot's body file but "
-                f"{self.name}.robot = {robot!r}; allowed: null (this robot's own, {ROBOT_BODIES[robot]}) "
-                f"or a body file of your own"
+                f"{self.name}.morphology = {morphology!r} {mismatch} but {self.name}.robot = {robot!r}; "
+                f"allowed: null (this robot's own, {ROBOT_BODIES[robot]}) or a body file of your own"
             )
         params, body = None, None
         # the body file is read here, once: the sweep's science and Fig. 1C (the body) need it
@@ -433,6 +446,12 @@ class Physics(Model):
     ) -> DesignResult:
         robot = self.cli_robot(a)
         path = a.morphology or ROBOT_BODIES[robot]
+        mismatch = other_robots_body(robot, path)
+        if mismatch:  # the config's refusal (parse), at the command line too
+            raise UsageError(
+                f"--morphology {path} {mismatch} but the {self.name} model builds the {robot} robot "
+                f"(--robot {robot}); allowed: its own body file {ROBOT_BODIES[robot]} or one of your own"
+            )
         if not os.path.exists(path):  # a device or a FIFO exists: the bounded reader says what it is
             raise UsageError(f"--morphology {path}: no such file (a YAML of body parameters)")
         try:

@@ -62,9 +62,10 @@ class EmpiricalParams:
     def from_mapping(cls, values: Mapping[str, Any]) -> EmpiricalParams:
         """Defaults overridden by ``values``; unknown keys and out-of-range values raise."""
         allowed = [f.name for f in dataclasses.fields(cls)]
-        for k in values:
-            if k not in allowed:
-                raise ValueError(f"unknown empirical parameter {k!r}; allowed: {allowed}")
+        unknown = [k for k in values if k not in allowed]
+        if unknown:
+            more = f" (and {len(unknown) - 1} more)" if len(unknown) > 1 else ""
+            raise ValueError(f"unknown empirical parameter {_short(unknown[0])}{more}; allowed: {allowed}")
         return cls(**dict(values))
 
     def to_dict(self) -> dict[str, Any]:
@@ -74,41 +75,52 @@ class EmpiricalParams:
         return dataclasses.replace(self, **changes)
 
 
-# name -> (lower bound, lower bound exclusive?, upper bound or None, integer?)
-_RANGES: dict[str, tuple[float, bool, float | None, bool]] = {
-    "body_mass": (0.0, True, None, False),
-    "wheel_mass": (0.0, True, None, False),
-    "castor_mass": (0.0, True, None, False),
-    "wheel_radius": (0.0, True, None, False),
-    "max_speed": (0.0, True, None, False),
-    "max_torque": (0.0, True, None, False),
-    "wheel_setback": (-0.5, False, 0.5, False),
-    "wheel_friction": (0.0, False, None, False),
-    "light_radius": (0.0, True, None, False),
-    "light_distance": (0.0, True, None, False),
-    "gravity": (0.0, False, None, False),
-    "dt": (0.0, True, None, False),
-    "steps": (1, False, None, True),
-    "solver_iterations": (1, False, None, True),
-}
+def _ranges_from_schema() -> dict[str, tuple[float, bool, float | None, bool]]:
+    """name -> (lower bound, lower bound exclusive?, upper bound, integer?), from the one place the
+    ranges are given and argued for: the ``params`` properties of the physics section of
+    ``config_schema.yaml`` (the config's ``<model>.params`` are checked against the same schema)."""
+    from morphlearn.config import schema
+
+    props = schema()["properties"]["empirical"]["properties"]["params"]["properties"]
+    out: dict[str, tuple[float, bool, float | None, bool]] = {}
+    for name, s in props.items():
+        excl = "exclusiveMinimum" in s
+        out[name] = (s["exclusiveMinimum"] if excl else s["minimum"], excl, s.get("maximum"), s["type"] == "integer")
+    return out
+
+
+#: name -> (lower bound, lower bound exclusive?, upper bound or None, integer?): one range per
+#: parameter, read from config_schema.yaml (where each bound's reason is given).
+_RANGES: dict[str, tuple[float, bool, float | None, bool]] = _ranges_from_schema()
 
 
 def _allowed(name: str) -> str:
     lo, excl, hi, integer = _RANGES[name]
     kind = "integer" if integer else "number"
-    hi_s = f" and <= {hi}" if hi is not None else ""
-    return f"{kind} {'>' if excl else '>='} {lo}{hi_s}"
+    hi_s = f" and <= {hi:g}" if hi is not None else ""
+    return f"{kind} {'>' if excl else '>='} {lo:g}{hi_s}"
 
 
 def _check(name: str, value: Any) -> None:
     lo, excl, hi, integer = _RANGES[name]
     ok_type = isinstance(value, int) if integer else isinstance(value, (int, float))
     if isinstance(value, bool) or not ok_type:
-        raise ValueError(f"{name} = {value!r} is invalid; allowed: {_allowed(name)}")
-    v = float(value)
+        raise ValueError(f"{name} = {_short(value)} is invalid; allowed: {_allowed(name)}")
+    try:
+        v = float(value)
+    except OverflowError:  # an integer beyond a double: out of every range
+        v = math.inf
     bad = not math.isfinite(v) or (v <= lo if excl else v < lo) or (hi is not None and v > hi)
     if bad:
-        raise ValueError(f"{name} = {value!r} is out of range; allowed: {_allowed(name)}")
+        raise ValueError(f"{name} = {_short(value)} is out of range; allowed: {_allowed(name)}")
+
+
+def _short(value: Any) -> str:
+    """``value`` as the message shows it: at most 60 characters (a 5,000-digit integer is not
+    printed whole, and Python refuses to print one of more than 4,300 digits)."""
+    big = isinstance(value, int) and value.bit_length() > 160
+    text = f"an integer of {value.bit_length()} bits" if big else repr(value)
+    return text if len(text) <= 60 else f"{text[:50]}... ({len(text)} characters)"
 
 
 def load_params(path: str | Path) -> EmpiricalParams:
