@@ -97,12 +97,14 @@ def json_file(path: str | Path) -> Any:
 def check_yaml(text: str, loader: type) -> None:
     """ValueError if the YAML document ``text`` nests deeper than :data:`MAX_DEPTH` (its aliases
     expanded), holds an alias of a collection that is still open (a recursive structure: ``x: &a
-    [*a]``), or expands through its aliases to more than :data:`MAX_VALUES` values. Reads the
+    [*a]``), or holds more than :data:`MAX_VALUES` values, its aliases expanded (the message says
+    whether aliases did it: a plain list of 4 million numbers is not an alias bomb). Reads the
     parser's events only (no recursion), before PyYAML's composer, which recurses once per level.
     A malformed document raises the parser's own yaml.YAMLError."""
     open_anchors: list[str | None] = []
     done: dict[str, tuple[int, int]] = {}  # anchor -> (values, levels of nesting) of its node
     frames = [[0, 0]]  # per open collection: values below it, deepest nesting below it
+    aliased = [False]  # whether an alias has expanded to more than itself (for the message)
 
     def add(values: int, levels: int, mark: yaml.Mark) -> None:
         frames[-1][0] += values
@@ -110,10 +112,8 @@ def check_yaml(text: str, loader: type) -> None:
         if len(frames) - 1 + levels > MAX_DEPTH:
             raise _too_deep(f" (line {mark.line + 1})")
         if frames[-1][0] > MAX_VALUES:
-            raise ValueError(
-                f"expands through its aliases to more than {MAX_VALUES} values (line {mark.line + 1}); "
-                "allowed: at most that many"
-            )
+            how = "expands through its aliases to" if aliased[0] else "holds"
+            raise ValueError(f"{how} more than {MAX_VALUES} values (line {mark.line + 1}); allowed: at most that many")
 
     for ev in yaml.parse(text, Loader=loader):
         if isinstance(ev, yaml.CollectionStartEvent):
@@ -138,4 +138,6 @@ def check_yaml(text: str, loader: type) -> None:
                     f"&{ev.anchor} it refers to (a structure that holds itself); allowed: aliases of "
                     "values already complete"
                 )
-            add(*done.get(ev.anchor, (1, 0)), ev.start_mark)  # an undefined one: the composer says so
+            values, levels = done.get(ev.anchor, (1, 0))  # an undefined one: the composer says so
+            aliased[0] = aliased[0] or values > 1
+            add(values, levels, ev.start_mark)
