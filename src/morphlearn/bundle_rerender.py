@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import json
 import os
+import re
 import shutil
 import subprocess
 import sys
@@ -48,11 +49,99 @@ def render_command(bundle_dir: str | Path, manifest: dict, cores: int) -> list[s
     return [*cmd, "--config", "render_only=True", f"results_dir={bundle_dir}", "--forceall"]
 
 
-def _render(cmd: list[str], root: Path, target: str | Path) -> None:
-    """Run the render command in ``root`` (it renders into ``target``); BundleError if it fails."""
+def failed_log(bundle_path: Path) -> Path:
+    """Where the log of a failed render of ``bundle_path`` is kept: beside the bundle, hidden like
+    its working copy (git ignores it under results/), replaced by the next failure."""
+    return bundle_path.parent / f".render-failed-{bundle_path.name}.log"
+
+
+def _failure(stderr: str, root: Path) -> tuple[str, list[Path], str]:
+    """The failing rule of Snakemake's ``stderr`` (its first "Error in rule"), the log files that
+    rule names (relative to ``root``) and the cause: the last line of the first of those logs that
+    has one (the exception the notebook or script raised), else Snakemake's own error line."""
+    lines = stderr.splitlines()
+    start = next((i for i, t in enumerate(lines) if re.match(r"\s*Error in rule \S+:", t)), None)
+    rule, logs = "", []
+    if start is not None:
+        rule = lines[start].split("Error in rule", 1)[1].strip().rstrip(":")
+        for t in lines[start + 1 :]:
+            if not t.strip():
+                break
+            key, _, value = t.strip().partition(": ")
+            if key == "log":
+                value = value.split(" (check log file", 1)[0]
+                logs = [root / v.strip() for v in value.split(", ") if v.strip()]
+    cause = ""
+    for log in logs:
+        try:
+            text = log.read_text(errors="replace") if log.is_file() and log.suffix != ".ipynb" else ""
+        except OSError:
+            text = ""
+        last = [t.strip() for t in text.splitlines() if t.strip()]
+        if last:
+            cause = last[-1]
+            break
+    if not cause:  # no rule log: Snakemake's own words (a missing input, a syntax error)
+        own = [t.strip() for t in lines if re.search(r"(Error|Exception)\b", t) and "Error in rule" not in t]
+        cause = own[0] if own else (lines[-1].strip() if lines else "no error output")
+    return rule, logs, cause
+
+
+def _render(cmd: list[str], root: Path, target: str | Path, keep: Path | None = None) -> None:
+    """Run the render command in ``root`` (it renders into ``target``); BundleError if it fails,
+    naming the failing rule and its own error, with Snakemake's output and that rule's logs kept
+    in ``keep`` (the working copy that holds them is removed after)."""
     proc = subprocess.run(cmd, cwd=root, capture_output=True, text=True, env=dict(os.environ))
-    if proc.returncode != 0:
-        raise bundle.BundleError(f"{target}: the render failed (exit {proc.returncode}): {proc.stderr[-1500:]}")
+    if proc.returncode == 0:
+        return
+    rule, logs, cause = _failure(proc.stderr, root)
+    kept = ""
+    if keep is not None:
+        parts = [f"$ {' '.join(cmd)}\n(exit {proc.returncode})\n\n== Snakemake's output\n{proc.stderr}"]
+        for log in logs:
+            try:
+                name = log.relative_to(root) if log.is_relative_to(root) else log
+                parts.append(f"\n== {name}\n{log.read_text(errors='replace')}")
+            except OSError:
+                parts.append(f"\n== {log}: not written")
+        try:
+            keep.write_text("".join(parts))
+            kept = f"; the whole log: {keep}"
+        except OSError as e:
+            kept = f"; its log could not be kept ({e.strerror})"
+    where = f" in rule {rule}" if rule else ""
+    raise bundle.BundleError(f"{target}: the render failed (exit {proc.returncode}){where}: {cause[:300]}{kept}")
+
+
+#: A render's working copy: ``.rerender-<bundle name>-<pid>-<random>`` beside the bundle.
+WORK_PREFIX = ".rerender-"
+
+
+def _alive(pid: int) -> bool:
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except (PermissionError, OverflowError):  # another user's process (alive), a bad number
+        return True
+    return True
+
+
+def remove_stale(bundle_path: Path) -> list[Path]:
+    """Remove the working copies of renders of ``bundle_path`` whose process is gone (a render
+    killed with kill -9 leaves its copy, with a bundle.json, behind); a live render's copy is kept.
+    The removed folders."""
+    gone = []
+    for d in bundle_path.parent.glob(f"{WORK_PREFIX}{bundle_path.name}-*"):
+        # <pid>-<mkdtemp's 8 characters>, or the 8 alone (made before the pid was in the name);
+        # anything else is another bundle's (.rerender-survey-mujoco-* is not survey's)
+        m = re.fullmatch(re.escape(f"{WORK_PREFIX}{bundle_path.name}-") + r"(?:(\d+)-)?[a-z0-9_]{8}", d.name)
+        if m is None or not d.is_dir() or d.is_symlink():
+            continue
+        if m.group(1) is None or not _alive(int(m.group(1))):
+            shutil.rmtree(d, ignore_errors=True)
+            gone.append(d)
+    return gone
 
 
 def _copy_as_committed(src: Path, dst: Path, listed: dict[str, str]) -> None:
@@ -65,20 +154,24 @@ def _copy_as_committed(src: Path, dst: Path, listed: dict[str, str]) -> None:
 @contextmanager
 def rendered_copy(bundle_dir: str | Path, root: str | Path, cores: int = 2) -> Iterator[tuple[Path, dict, dict]]:
     """Render a copy of the whole bundle ``bundle_dir`` (relative to ``root``) beside it
-    (``.rerender-<name>-*``, removed after): yields the copy, the bundle's manifest and the listed
-    files whose digests the render changed (relative path -> new digest). The bundle itself is not
-    touched. BundleError if it is not whole first or the render fails."""
+    (``.rerender-<name>-<pid>-*``, removed after, or at the next start when this process was
+    killed): yields the copy, the bundle's manifest and the listed files whose digests the render
+    changed (relative path -> new digest). The bundle itself is not touched. BundleError if it is
+    not whole first or the render fails (naming the failing rule's error; its log kept beside the
+    bundle, :func:`failed_log`)."""
     root = Path(root)
     path = root / bundle_dir
     problems = bundle_check.check(path)
     if problems:
         raise bundle.BundleError(f"{bundle_dir}: not re-rendered: {len(problems)} problem(s) first, {problems[0]}")
     manifest = bounded.json_file(path / bundle.MANIFEST)  # checked just above: a JSON object with its files
-    work = Path(tempfile.mkdtemp(prefix=f".rerender-{path.name}-", dir=path.parent))
+    remove_stale(path)
+    # the pid in the name: the next start knows whether this copy's render is still running
+    work = Path(tempfile.mkdtemp(prefix=f"{WORK_PREFIX}{path.name}-{os.getpid()}-", dir=path.parent))
     try:
         _copy_as_committed(path, work, manifest["files"])
         rel = work.relative_to(root) if work.is_relative_to(root) else work
-        _render(render_command(rel, manifest, cores), root, rel)
+        _render(render_command(rel, manifest, cores), root, rel, keep=failed_log(path))
         changed = {r: provenance.sha256_file(work / r) for r in manifest["files"]}
         yield work, manifest, {r: d for r, d in changed.items() if d != manifest["files"][r]}
     finally:

@@ -21,7 +21,7 @@ import numpy as np
 
 from morphlearn import __version__, refine_cli
 from morphlearn import grid as gridmod
-from morphlearn.errors import UsageError, c_stdout_to_stderr
+from morphlearn.errors import EngineError, UsageError, c_stdout_to_stderr
 from morphlearn.metrics import design_metrics
 from morphlearn.physics.model import ROBOT_BODIES
 
@@ -196,11 +196,11 @@ def cmd_render(a: argparse.Namespace) -> int:
     results (nothing simulated) with the configs that made it, on a copy beside it, and compared
     byte for byte with its bundle.json. The bundle is not touched (re-sealing is rerender-bundle's,
     after a figure's code changed)."""
-    from morphlearn import bounded, bundle, bundle_rerender
+    from morphlearn import bundle, bundle_rerender
 
     root = _render_root(a)
-    files = bounded.json_file(root / a.bundle / bundle.MANIFEST).get("files", {})
-    if not any(str(f).startswith("figures/") for f in files):
+    files = _listed_files(root / a.bundle / bundle.MANIFEST)
+    if not any(f.startswith("figures/") for f in files):
         raise UsageError(f"{a.bundle}: holds no figures (physics only): morphlearn check-bundle {a.bundle}")
     print(f"{a.bundle}: rendering a copy from its results (a minute or two) ...", flush=True)
     try:
@@ -218,6 +218,35 @@ def cmd_render(a: argparse.Namespace) -> int:
     return 0
 
 
+def _listed_files(mpath: Path) -> dict[str, str]:
+    """The files a bundle's manifest lists, or a UsageError naming the file, the key and what is
+    allowed (a manifest that is a list, a string, a number, null or whose files are not a mapping
+    once ended in an AttributeError traceback or was said to hold no figures)."""
+    from morphlearn import bounded
+
+    shape = "a JSON object whose 'files' maps each path in the bundle to its SHA-256"
+    try:
+        man = bounded.json_file(mpath)
+    except ValueError as e:
+        raise UsageError(f"{mpath}: unreadable ({e}); allowed: {shape}") from None
+    if not isinstance(man, dict):
+        raise UsageError(f"{mpath}: top level is {json.dumps(man)[:40]}, not an object; allowed: {shape}")
+    files = man.get("files")
+    if not isinstance(files, dict) or not all(isinstance(k, str) and isinstance(v, str) for k, v in files.items()):
+        raise UsageError(f"{mpath}: 'files' = {json.dumps(files)[:40]} is invalid; allowed: {shape}")
+    return files
+
+
+#: Voila starts a kernel (about 320 MB) for every page request, and by default keeps it until the
+#: server stops: Jupyter Server's own culler ends a kernel idle this long (no cell running, no page
+#: connected to it: a bare GET, a closed tab), checked this often (seconds). An open page is kept.
+VOILA_CULL = (
+    "--MappingKernelManager.cull_idle_timeout=60",
+    "--MappingKernelManager.cull_interval=15",
+    "--MappingKernelManager.cull_connected=False",
+)
+
+
 def cmd_explore(a: argparse.Namespace) -> int:
     """The interactive explorer (docs/explorer.md) as a web app: Voila on notebooks/explore.ipynb."""
     root = Path.cwd()
@@ -228,7 +257,7 @@ def cmd_explore(a: argparse.Namespace) -> int:
     voila = exe if os.path.isfile(exe) else shutil.which("voila")
     if voila is None:
         raise UsageError("voila is not installed: the explorer extra (bash tools/setup.sh installs it)")
-    args = [voila, str(nb.relative_to(root)), f"--port={a.port}"] + ([] if a.browser else ["--no-browser"])
+    args = [voila, str(nb.relative_to(root)), f"--port={a.port}", *VOILA_CULL] + ([] if a.browser else ["--no-browser"])
     os.execv(voila, args)  # Voila's own exit code and signals from here on
     return 0  # not reached
 
@@ -448,6 +477,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     except (UsageError, ValueError) as e:
         print(f"morphlearn {a.cmd}: error: {e}", file=sys.stderr)
         return 2
+    except EngineError as e:  # the engine's own error, in one line (never an abort)
+        print(f"morphlearn {a.cmd}: engine error: {e}", file=sys.stderr)
+        return 1
     except KeyboardInterrupt:
         print("interrupted", file=sys.stderr)
         return 130

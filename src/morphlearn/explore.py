@@ -92,7 +92,8 @@ def sources(results_dir: str | Path = "results") -> list[Source]:
     """Every model of every bundle (a folder with ``bundle.json``) under ``results_dir``:
     ``FIRST_BUNDLE`` first, the others by name."""
     out = []
-    bundles = (p.parent for p in Path(results_dir).glob(f"*/{bundlemod.MANIFEST}"))
+    # a hidden folder is no source: a render's working copy (.rerender-<name>-*) holds a bundle.json
+    bundles = (p.parent for p in Path(results_dir).glob(f"*/{bundlemod.MANIFEST}") if not p.parent.name.startswith("."))
     for b in sorted(bundles, key=lambda b: (b.name != FIRST_BUNDLE, b.name)):
         out += [Source(b, m) for m in MODELS if (b / m / "metrics.csv").is_file()]
     return out
@@ -385,6 +386,11 @@ class View:
         return urllib.parse.urlencode(q)
 
 
+#: The longest design index a URL may give (any grid's designs are far fewer than 10^9; a 5,000-digit
+#: one once raised Python's own ValueError out of the app).
+MAX_DESIGN_DIGITS = 9
+
+
 def parse_view(query: str | None) -> View:
     """A :class:`View` from a URL's query string (with or without the ``?``); ExploreError names
     the bad value (a shared link with a typo should say so, not open something else)."""
@@ -397,16 +403,23 @@ def parse_view(query: str | None) -> View:
     design = one("design")
     metric = one("metric") or METRIC_NAMES[0]
     w = one("w")
-    if design is not None and not design.isdigit():
-        raise ExploreError(f"URL design={design!r}: allowed: a design index (0, 1, ...)")
+    if design is not None and not (design.isascii() and design.isdigit() and len(design) <= MAX_DESIGN_DIGITS):
+        shown = design if len(design) <= 40 else f"{design[:20]}... ({len(design)} characters)"
+        raise ExploreError(
+            f"URL design={shown!r}: allowed: a design index (0, 1, ...; at most {MAX_DESIGN_DIGITS} digits)"
+        )
     if metric not in METRIC_NAMES:
         raise ExploreError(f"URL metric={metric!r}: allowed: {', '.join(METRIC_NAMES)}")
     pair = None
     if w is not None:
+        shown = w if len(w) <= 40 else f"{w[:20]}... ({len(w)} characters)"
         try:
             a, b = (float(v) for v in w.split(","))
         except ValueError:
-            raise ExploreError(f"URL w={w!r}: allowed: two numbers, w1,w2") from None
+            raise ExploreError(f"URL w={shown!r}: allowed: two numbers in [-1, 1], w1,w2") from None
+        # nan, inf or 1e308 would open the nearest controller, (-1, -1) or (1, 1), without a word
+        if not all(math.isfinite(v) and -1.0 <= v <= 1.0 for v in (a, b)):
+            raise ExploreError(f"URL w={shown!r}: allowed: two finite numbers in [-1, 1], w1,w2")
         pair = (a, b)
     return View(one("source"), None if design is None else int(design), metric, pair)
 

@@ -39,7 +39,7 @@ from typing import Any
 
 import numpy as np
 
-from morphlearn import metrics, models, provenance
+from morphlearn import bounded, metrics, models, provenance
 from morphlearn.config import digest
 from morphlearn.grid import ENV_MIRROR
 from morphlearn.grid import weights as weight_grid
@@ -210,14 +210,49 @@ def manifest_path(folder: Path) -> Path:
     return folder / "manifest.json"
 
 
+#: The most weights per synapse a manifest may name (as grid.weights in the config schema).
+MAX_WEIGHTS = 1001
+#: What a manifest holds, for the one line that refuses a malformed one.
+MANIFEST_SHAPE = (
+    "a JSON object with run_key (a string) and identity {design: {l1, l2}, weights, params, levers} "
+    "as refine_design writes it"
+)
+
+
 def read_manifest(folder: Path) -> dict[str, Any]:
+    """The folder's manifest, read within :mod:`morphlearn.bounded`'s limits (size, nesting) and
+    checked for the keys every reader takes from it (a list, a string or a 50,000-deep nesting
+    once ended in a TypeError or RecursionError traceback): RefineError, one line naming the file,
+    the key and what is allowed."""
     p = manifest_path(folder)
+    if not p.exists():
+        raise RefineError(f"{p}: missing (not a refine_design folder)")
     try:
-        return json.loads(p.read_text())
-    except FileNotFoundError:
-        raise RefineError(f"{p}: missing (not a refine_design folder)") from None
-    except (OSError, json.JSONDecodeError) as e:
-        raise RefineError(f"{p}: unreadable ({e})") from None
+        man = bounded.json_file(p)
+    except ValueError as e:
+        raise RefineError(f"{p}: unreadable ({e}); allowed: {MANIFEST_SHAPE}") from None
+    if not isinstance(man, dict):
+        kind = {"list": "a list", "str": "a string", "int": "a number", "float": "a number", "NoneType": "null"}
+        what = kind.get(type(man).__name__, type(man).__name__)
+        raise RefineError(f"{p}: top level is {what}, not an object; allowed: {MANIFEST_SHAPE}")
+    if not isinstance(man.get("run_key"), str):
+        raise RefineError(f"{p}: run_key = {_short(man.get('run_key'))} is invalid; allowed: {MANIFEST_SHAPE}")
+    try:
+        job = job_from_manifest(man)
+        job.run_key()
+    except KeyError as e:
+        raise RefineError(f"{p}: the key {_short(e.args[0])} is missing; allowed: {MANIFEST_SHAPE}") from None
+    except (TypeError, ValueError, AttributeError, IndexError) as e:
+        why = " ".join(str(e).split())[:200]
+        raise RefineError(f"{p}: identity is malformed ({why}); allowed: {MANIFEST_SHAPE}") from None
+    if not 2 <= job.m <= MAX_WEIGHTS:  # the arrays assembled are 4 x m x m
+        raise RefineError(f"{p}: identity.weights = {job.m} is out of range; allowed: 2..{MAX_WEIGHTS}")
+    return man
+
+
+def _short(v: Any) -> str:
+    text = repr(v)
+    return text if len(text) <= 60 else f"{text[:50]}... ({len(text)} characters)"
 
 
 def open_folder(folder: Path, job: Job, body_file: str | Path | None) -> str:
