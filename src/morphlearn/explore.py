@@ -391,6 +391,11 @@ class View:
 MAX_DESIGN_DIGITS = 9
 
 
+def _shown(value: str) -> str:
+    """A URL value as a message quotes it: whole up to 40 characters, else its start and length."""
+    return repr(value) if len(value) <= 40 else f"'{value[:20]}... ({len(value)} characters)'"
+
+
 def parse_view(query: str | None) -> View:
     """A :class:`View` from a URL's query string (with or without the ``?``); ExploreError names
     the bad value (a shared link with a typo should say so, not open something else)."""
@@ -404,22 +409,20 @@ def parse_view(query: str | None) -> View:
     metric = one("metric") or METRIC_NAMES[0]
     w = one("w")
     if design is not None and not (design.isascii() and design.isdigit() and len(design) <= MAX_DESIGN_DIGITS):
-        shown = design if len(design) <= 40 else f"{design[:20]}... ({len(design)} characters)"
         raise ExploreError(
-            f"URL design={shown!r}: allowed: a design index (0, 1, ...; at most {MAX_DESIGN_DIGITS} digits)"
+            f"URL design={_shown(design)}: allowed: a design index (0, 1, ...; at most {MAX_DESIGN_DIGITS} digits)"
         )
     if metric not in METRIC_NAMES:
-        raise ExploreError(f"URL metric={metric!r}: allowed: {', '.join(METRIC_NAMES)}")
+        raise ExploreError(f"URL metric={_shown(metric)}: allowed: {', '.join(METRIC_NAMES)}")
     pair = None
     if w is not None:
-        shown = w if len(w) <= 40 else f"{w[:20]}... ({len(w)} characters)"
         try:
             a, b = (float(v) for v in w.split(","))
         except ValueError:
-            raise ExploreError(f"URL w={shown!r}: allowed: two numbers in [-1, 1], w1,w2") from None
+            raise ExploreError(f"URL w={_shown(w)}: allowed: two numbers in [-1, 1], w1,w2") from None
         # nan, inf or 1e308 would open the nearest controller, (-1, -1) or (1, 1), without a word
         if not all(math.isfinite(v) and -1.0 <= v <= 1.0 for v in (a, b)):
-            raise ExploreError(f"URL w={shown!r}: allowed: two finite numbers in [-1, 1], w1,w2")
+            raise ExploreError(f"URL w={_shown(w)}: allowed: two finite numbers in [-1, 1], w1,w2")
         pair = (a, b)
     return View(one("source"), None if design is None else int(design), metric, pair)
 

@@ -346,7 +346,7 @@ class App:
         try:
             view = explore.parse_view(url_query)
             if view.source is not None and view.source not in labels:
-                raise explore.ExploreError(f"URL source={view.source!r}: allowed: {', '.join(labels)}")
+                raise explore.ExploreError(f"URL source={explore._shown(view.source)}: allowed: {', '.join(labels)}")
         except explore.ExploreError as e:
             url_note, view = str(e), explore.View()
         self._explorers: dict[str, explore.Explorer] = {}
