@@ -565,3 +565,18 @@ def test_a_killed_rerender_copy_is_removed_at_the_next_start_and_never_a_source(
         assert work.name.startswith(f".rerender-b-{os.getpid()}-") and changed == {}
     assert not dead.exists() and not older.exists() and live.exists() and other.exists()
     assert not work.exists() and len(seen) == 1
+
+
+@pytest.mark.parametrize("line", ["[]", '{"row": "x"}', '{"row": 1, "episodes": -5, "wall_s": 1, "cpu_s": 1}', "{"])
+def test_refine_status_says_a_malformed_progress_log_in_one_line(
+    line: str, tmp_path: Path, capsys: pytest.CaptureFixture
+) -> None:
+    import shutil
+
+    folder = tmp_path / "f"
+    shutil.copytree(ROOT / "results/refine/canonical_121", folder)
+    with (folder / "progress.jsonl").open("a") as fh:
+        fh.write(line + "\n")
+    _refused(
+        ["refine", "status", str(folder)], capsys, f"{folder / 'progress.jsonl'}: line ", "is malformed", "allowed"
+    )

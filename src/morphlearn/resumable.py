@@ -524,10 +524,26 @@ def cost(folder: str | Path) -> dict[str, Any]:
     p = Path(folder) / "progress.jsonl"
     recs: dict[int, dict[str, Any]] = {}
     if p.exists():
-        for line in p.read_text().splitlines():
-            if line.strip():
+        try:
+            text = bounded.read_bytes(p).decode("utf-8", errors="replace")
+        except ValueError as e:
+            raise RefineError(f"{p}: {e}") from None
+        for n, line in enumerate(text.splitlines(), 1):
+            if not line.strip():
+                continue
+            try:  # one record a line, as refine_design appends them: a malformed one is one line
                 r = json.loads(line)
-                recs[int(r["row"])] = r
+                row = int(r["row"])
+                counts = [r[k] for k in ("episodes", "wall_s", "cpu_s")]  # kept as written (int or float)
+                if not all(type(v) in (int, float) and math.isfinite(v) and v >= 0 for v in counts):
+                    raise ValueError("a negative or non-finite count")
+            except (ValueError, TypeError, KeyError, IndexError, RecursionError) as e:
+                why = " ".join(str(e).split())[:80]
+                raise RefineError(
+                    f"{p}: line {n} is malformed ({type(e).__name__}: {why}); allowed: one JSON object a line "
+                    "with row, episodes, wall_s and cpu_s >= 0, as refine_design writes them"
+                ) from None
+            recs[row] = r
     ep = sum(r["episodes"] for r in recs.values())
     wall = sum(r["wall_s"] for r in recs.values())
     cpu = sum(r["cpu_s"] for r in recs.values())
