@@ -513,9 +513,9 @@ def test_a_failed_render_names_the_rule_and_its_error_and_keeps_the_log(
     monkeypatch.setattr(
         bundle_rerender.subprocess, "run", lambda *a, **k: subprocess.CompletedProcess(a, 1, "", stderr)
     )
-    keep = tmp_path / ".render-failed-b.log"
+    keep = tmp_path / ".render-failed-b.log"  # beside the bundle b, whose working copy failed
     with pytest.raises(bundle_rerender.bundle.BundleError) as e:
-        bundle_rerender._render(["snakemake"], tmp_path, target.name, keep=keep)
+        bundle_rerender._render(["snakemake"], tmp_path, target.name)
     msg = str(e.value)
     # e3d6953: the last 1,500 characters of Snakemake's stderr, from mid-word, without the cause
     assert "in rule fig3: KeyError: 'M_CF'" in msg and f"the whole log: {keep}" in msg and "xxx" not in msg, msg
@@ -559,7 +559,7 @@ def test_a_killed_rerender_copy_is_removed_at_the_next_start_and_never_a_source(
     # e3d6953: the explorer listed the copies as sources
     assert [s.bundle.name for s in explore.sources(results)] == ["b"]
     seen = []
-    monkeypatch.setattr(bundle_rerender, "_render", lambda cmd, root, target, keep=None: seen.append(target))
+    monkeypatch.setattr(bundle_rerender, "_render", lambda cmd, root, target: seen.append(target))
     monkeypatch.setattr(bundle_rerender.bundle_check, "check", lambda path: [])
     with bundle_rerender.rendered_copy("results/b", tmp_path, 1) as (work, _, changed):
         assert work.name.startswith(f".rerender-b-{os.getpid()}-") and changed == {}

@@ -87,13 +87,21 @@ def _failure(stderr: str, root: Path) -> tuple[str, list[Path], str]:
     return rule, logs, cause
 
 
-def _render(cmd: list[str], root: Path, target: str | Path, keep: Path | None = None) -> None:
+def _kept_log(root: Path, target: str | Path) -> Path | None:
+    """Where the log of a failed render into the working copy ``target`` is kept: the
+    :func:`failed_log` of the bundle it copies (None for a target that is no working copy)."""
+    m = re.fullmatch(re.escape(WORK_PREFIX) + r"(.+)-\d+-[a-z0-9_]{8}", Path(target).name)
+    return failed_log(root / Path(target).parent / m.group(1)) if m else None
+
+
+def _render(cmd: list[str], root: Path, target: str | Path) -> None:
     """Run the render command in ``root`` (it renders into ``target``); BundleError if it fails,
     naming the failing rule and its own error, with Snakemake's output and that rule's logs kept
-    in ``keep`` (the working copy that holds them is removed after)."""
+    beside the bundle (:func:`failed_log`; the working copy that holds them is removed after)."""
     proc = subprocess.run(cmd, cwd=root, capture_output=True, text=True, env=dict(os.environ))
     if proc.returncode == 0:
         return
+    keep = _kept_log(root, target)
     rule, logs, cause = _failure(proc.stderr, root)
     kept = ""
     if keep is not None:
@@ -171,7 +179,7 @@ def rendered_copy(bundle_dir: str | Path, root: str | Path, cores: int = 2) -> I
     try:
         _copy_as_committed(path, work, manifest["files"])
         rel = work.relative_to(root) if work.is_relative_to(root) else work
-        _render(render_command(rel, manifest, cores), root, rel, keep=failed_log(path))
+        _render(render_command(rel, manifest, cores), root, rel)
         changed = {r: provenance.sha256_file(work / r) for r in manifest["files"]}
         yield work, manifest, {r: d for r, d in changed.items() if d != manifest["files"][r]}
     finally:
