@@ -147,6 +147,7 @@ def run(
         )
     except RuntimeError as e:
         raise OdeEngineError(f"the ODE engine failed on these body values: {e}") from None
+    spent = spent or {}  # a core built before it returned its messages (rebuild: bash tools/setup.sh)
     _report(spent, n)
     if timing is not None:
         timing.update({k: spent[k] for k in ("collide", "world_step")})
@@ -156,13 +157,13 @@ def run(
 def _report(spent: dict[str, Any], n: int) -> None:
     """ODE's messages of a batch, counted in :data:`MESSAGES` and said once per message number per
     process (one line on stderr): a message repeated every step is one line, not one per step."""
-    count, num = int(spent["messages"]), int(spent["message_num"])
+    count, num = int(spent.get("messages", 0)), int(spent.get("message_num", 0))
     if not count:
         return
     first = num not in MESSAGES
     MESSAGES[num] += count
     if first:
-        text = " ".join(str(spent["message"]).split())
+        text = " ".join(str(spent.get("message", "")).split())
         print(
             f"morphlearn: ODE message {num}: {text} ({count} times in a batch of {n} episodes; "
             "said once per process, counted in morphlearn.ode.core.MESSAGES)",
