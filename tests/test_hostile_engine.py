@@ -465,6 +465,9 @@ def test_refine_status_says_a_malformed_manifest_in_one_line(
         ("w=inf,-inf", "URL w='inf,-inf'"),
         ("w=1e308,1e308", "URL w='1e308,1e308'"),
         ("w=1.5,0", "URL w='1.5,0'"),
+        pytest.param(
+            "metric=" + "x" * 5000, "URL metric='xxxxxxxxxxxxxxxxxxxx... (5000 characters)'", id="long-metric"
+        ),
     ],
 )
 def test_explorer_url_values_are_checked(query: str, needle: str) -> None:
@@ -580,3 +583,21 @@ def test_refine_status_says_a_malformed_progress_log_in_one_line(
     _refused(
         ["refine", "status", str(folder)], capsys, f"{folder / 'progress.jsonl'}: line ", "is malformed", "allowed"
     )
+
+
+@pytest.mark.parametrize(
+    ("value", "needle"),
+    [
+        pytest.param(10**5000, "ode.params.steps = an integer of 16610 bits; allowed", id="5000-digit-int"),
+        pytest.param([10**5000], "ode.params.steps.0 = an integer of 16610 bits", id="in-a-list"),
+        pytest.param("x" * 1_000_000, "is 1000000 characters long; allowed: at most 4096", id="1MB-string"),
+        pytest.param("x" * 300, "... (302 characters) is invalid", id="300-char-string"),
+    ],
+)
+def test_a_huge_config_value_is_named_short(value: object, needle: str) -> None:
+    """Found in this pass: the schema's messages print the value whole (a 1 MB line for a 1 MB
+    string), and an integer of more than 4,300 digits made Python's own ValueError."""
+    base = config.read(ROOT / "config.yaml")
+    with pytest.raises(config.ConfigError) as e:
+        config.validate(config.deep_merge(base, {"ode": {"params": {"steps": value}}}))
+    assert needle in str(e.value) and len(str(e.value)) < 700, str(e.value)[:300]

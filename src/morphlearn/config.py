@@ -92,7 +92,10 @@ def _describe(err: jsonschema.ValidationError) -> str:
             " (Snakemake passes the values inside a nested --config value, like grid={weights: 7}, as "
             "strings: give them in a --configfile YAML instead)"
         )
-    return f"{key} = {err.instance!r} is invalid ({err.message}){allowed}"
+    value, why = repr(err.instance), err.message
+    value = value if len(value) <= 80 else f"{value[:60]}... ({len(value)} characters)"
+    why = why if len(why) <= 160 else f"{why[:140]}..."
+    return f"{key} = {value} is invalid ({why}){allowed}"
 
 
 def _fill_defaults(cfg: dict[str, Any], sch: dict[str, Any]) -> None:
@@ -137,6 +140,19 @@ def _check_finite(obj: Any, key: str) -> None:
         raise ConfigError(
             f"{key} = {obj!r} is not a finite number; allowed: finite numbers in the range the schema gives"
         )
+    # before the schema, whose messages print the value whole: Python refuses to print an integer
+    # of more than 4,300 digits (a ValueError out of the validator), and a 1 MB string made a 1 MB line
+    elif isinstance(obj, int) and not isinstance(obj, bool) and obj.bit_length() > 64:
+        raise ConfigError(
+            f"{key} = an integer of {obj.bit_length()} bits; allowed: integers of at most 64 bits in the range "
+            "the schema gives"
+        )
+    elif isinstance(obj, str) and len(obj) > MAX_STRING:
+        raise ConfigError(f"{key} = {obj[:30]!r}... is {len(obj)} characters long; allowed: at most {MAX_STRING}")
+
+
+#: The longest string a config value may be (a path is at most 4,096 bytes on Linux).
+MAX_STRING = 4096
 
 
 #: Characters a path key may not hold: Snakemake reads braces in input/output paths as wildcards.

@@ -119,7 +119,10 @@ def _short(value: Any) -> str:
     """``value`` as the message shows it: at most 60 characters (a 5,000-digit integer is not
     printed whole, and Python refuses to print one of more than 4,300 digits)."""
     big = isinstance(value, int) and value.bit_length() > 160
-    text = f"an integer of {value.bit_length()} bits" if big else repr(value)
+    try:
+        text = f"an integer of {value.bit_length()} bits" if big else repr(value)
+    except ValueError:  # a list holding such an integer
+        text = f"a {type(value).__name__} too large to print"
     return text if len(text) <= 60 else f"{text[:50]}... ({len(text)} characters)"
 
 
