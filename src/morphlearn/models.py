@@ -28,6 +28,7 @@ PLUGINS: dict[str, str] = {
     "empirical": "morphlearn.empirical.plugin:Pybullet",
     "mujoco": "morphlearn.mujoco.plugin:Mujoco",
     "ode": "morphlearn.ode.plugin:Ode",
+    "reduced": "morphlearn.reduced.plugin:Reduced",
 }
 
 
