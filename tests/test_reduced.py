@@ -109,10 +109,10 @@ def test_motor_solve_is_the_box_constrained_solution() -> None:
     from morphlearn.reduced.cpu import _k
 
     b = bodymod.body(BODY, *PAPER_BEST)
-    k00, k01, k11 = b.kk
+    k00, k01, k11 = b.kk[:3]
     rng = np.random.default_rng(1)
     for r0, r1 in rng.normal(0, 0.2, (500, 2)):
-        a, c = _k.motors(k00, k01, k11, r0, r1, BODY.max_torque)
+        a, c = _k.motors(b.kk, r0, r1, BODY.max_torque)
         best = min(
             (0.5 * (k00 * x * x + 2 * k01 * x * y + k11 * y * y) - r0 * x - r1 * y, x, y)
             for x, y in _candidates(k00, k01, k11, r0, r1, BODY.max_torque)

@@ -51,7 +51,8 @@ class Body:
 
     g: np.ndarray  # (36,) G = A^-1 M: momentum to velocities with the dampers implicit
     hm: np.ndarray  # (12,) dt A^-1 J_m^T: velocities per unit motor torque (left, right)
-    kk: np.ndarray  # (3,) K = dt J_m A^-1 J_m^T + cfm I: k00, k01, k11
+    #: (8,) K = dt J_m A^-1 J_m^T + cfm I (k00, k01, k11), K^-1 (i00, i01, i11), 1 / k00, 1 / k11
+    kk: np.ndarray
     cen: np.ndarray  # (6,) dt A^-1 (S_x, S_y, 0...): velocities per unit om^2 (centripetal)
     dz2: float  # squared height of the sensors' centres above the light's
 
@@ -120,11 +121,13 @@ def body(p: EmpiricalParams, l1: tuple[float, float], l2: tuple[float, float]) -
     Hm = p.dt * Ainv[:, 3:5]
     K = p.dt * Ainv[3:5, 3:5] + ODE_CFM * np.eye(2)
     cen = p.dt * Ainv[:, 0:2] @ S
+    k3 = (K[0, 0], 0.5 * (K[0, 1] + K[1, 0]), K[1, 1])
+    inverse = np.linalg.inv(np.array([[k3[0], k3[1]], [k3[1], k3[2]]]))
     dz = authors.sensor_height(p) - authors.LIGHT_Z
     return Body(
         g=np.ascontiguousarray(G.ravel()),
         hm=np.ascontiguousarray(Hm.ravel()),
-        kk=np.array([K[0, 0], 0.5 * (K[0, 1] + K[1, 0]), K[1, 1]]),
+        kk=np.array([*k3, *(inverse[0, 0], inverse[0, 1], inverse[1, 1]), 1.0 / k3[0], 1.0 / k3[2]]),
         cen=np.ascontiguousarray(cen),
         dz2=float(dz * dz),
     )

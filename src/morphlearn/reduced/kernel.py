@@ -34,18 +34,25 @@ def build(jit: Callable[..., Any]) -> Any:
     """The episode function compiled with ``jit`` (a numba decorator)."""
 
     @jit
-    def motors(k00, k01, k11, r0, r1, tmax):
+    def motors(kk, r0, r1, tmax):
         """The two motor torques: the solution of K lam = r with |lam_i| <= tmax (K symmetric positive
-        definite; lam_i at a cap where the unconstrained row would pass it), by projected Gauss-Seidel
-        to its fixed point. The wheels couple weakly through the chassis (|k01| / k00 ~ 1e-4 for the
-        authors' robot), so two or three sweeps reach it to the last bit; the loop ends when a sweep
-        changes nothing (at most ``_SWEEPS``). The fixed point is the LCP's unique solution, the one
-        ODE's Dantzig solver finds."""
-        a = min(max(r0 / k00, -tmax), tmax)
-        b = min(max((r1 - k01 * a) / k11, -tmax), tmax)
+        definite; a torque at its cap where its row's solution would pass it). ``kk``: K's entries,
+        its inverse's and the reciprocals of its diagonal (body.py). Unconstrained when both fit (most
+        steps: far from the light the motors hold their targets); else projected Gauss-Seidel to its
+        fixed point: the wheels couple weakly through the chassis (|k01| / k00 ~ 1e-4 for the
+        authors' robot), so two or three sweeps reach it to the last bit and the loop ends when a
+        sweep changes nothing (at most ``_SWEEPS``). The fixed point is the LCP's unique solution, the
+        one ODE's Dantzig solver finds."""
+        a = kk[3] * r0 + kk[4] * r1
+        b = kk[4] * r0 + kk[5] * r1
+        if -tmax <= a <= tmax and -tmax <= b <= tmax:
+            return a, b
+        k01 = kk[1]
+        a = min(max(r0 * kk[6], -tmax), tmax)
+        b = min(max((r1 - k01 * a) * kk[7], -tmax), tmax)
         for _ in range(_SWEEPS):
-            a1 = min(max((r0 - k01 * b) / k00, -tmax), tmax)
-            b1 = min(max((r1 - k01 * a1) / k11, -tmax), tmax)
+            a1 = min(max((r0 - k01 * b) * kk[6], -tmax), tmax)
+            b1 = min(max((r1 - k01 * a1) * kk[7], -tmax), tmax)
             if a1 == a and b1 == b:
                 break
             a = a1
@@ -63,8 +70,11 @@ def build(jit: Callable[..., Any]) -> Any:
         e1y = dy + s * l1x + c * l1y
         e2x = dx + c * l2x - s * l2y
         e2y = dy + s * l2x + c * l2y
-        t_right = vmax * math.tanh(w1 / (e1x * e1x + e1y * e1y + dz2))
-        t_left = vmax * math.tanh(w2 / (e2x * e2x + e2y * e2y + dz2))
+        d1 = e1x * e1x + e1y * e1y + dz2
+        d2 = e2x * e2x + e2y * e2y + dz2
+        inv = 1.0 / (d1 * d2)  # one division for both readings 1 / d1, 1 / d2
+        t_right = vmax * math.tanh(w1 * d2 * inv)
+        t_left = vmax * math.tanh(w2 * d1 * inv)
         om2 = q2 * q2
         f0 = g[0] * q0 + g[1] * q1 + g[2] * q2 + g[3] * q3 + g[4] * q4 + g[5] * q5 + om2 * cen[0]
         f1 = g[6] * q0 + g[7] * q1 + g[8] * q2 + g[9] * q3 + g[10] * q4 + g[11] * q5 + om2 * cen[1]
@@ -72,7 +82,7 @@ def build(jit: Callable[..., Any]) -> Any:
         f3 = g[18] * q0 + g[19] * q1 + g[20] * q2 + g[21] * q3 + g[22] * q4 + g[23] * q5 + om2 * cen[3]
         f4 = g[24] * q0 + g[25] * q1 + g[26] * q2 + g[27] * q3 + g[28] * q4 + g[29] * q5 + om2 * cen[4]
         f5 = g[30] * q0 + g[31] * q1 + g[32] * q2 + g[33] * q3 + g[34] * q4 + g[35] * q5 + om2 * cen[5]
-        la, lb = motors(kk[0], kk[1], kk[2], t_left - f3, t_right - f4, tmax)
+        la, lb = motors(kk, t_left - f3, t_right - f4, tmax)
         q0 = f0 + hm[0] * la + hm[1] * lb
         q1 = f1 + hm[2] * la + hm[3] * lb
         q2 = f2 + hm[4] * la + hm[5] * lb
@@ -93,7 +103,7 @@ def build(jit: Callable[..., Any]) -> Any:
     @jit
     def episode(g, hm, kk, cen, dt, steps, vmax, tmax, radius, dz2, lx, ly, l1x, l1y, l2x, l2y, w1, w2, stop, path):
         """One episode from rest at the origin facing +x, the light at (lx, ly). ``g`` (36,),
-        ``hm`` (12,), ``kk`` (3,), ``cen`` (6,): the body's constant matrices (body.py), row-major.
+        ``hm`` (12,), ``kk`` (8,), ``cen`` (6,): the body's constant matrices (body.py), row-major.
         Returns (first success step or -1, closest distance up to it, steps run, finite).
         ``path``: (steps, 2) receives the centre read at each step when it has rows."""
         x, y, c, s = 0.0, 0.0, 1.0, 0.0
