@@ -164,3 +164,45 @@ def test_body_constants_follow_the_ode_set_up() -> None:
 def test_bad_input_is_one_line(l1: tuple[float, float], w: list[list[float]], env: list[int], msg: str) -> None:
     with pytest.raises(ValueError, match=msg.replace("[", r"\[").replace("]", r"\]")):
         run(BODY, l1, (0.0, 0.0), w, env)
+
+
+_CUDA_SCRIPT = """
+import sys
+import numpy as np
+from numba import cuda
+from morphlearn.physics.params import load_params
+from morphlearn.reduced.core import run
+assert cuda.is_available()  # the simulator counts as a device
+body = load_params("config/authors_body.yaml").replace(steps=int(sys.argv[2]))
+w = np.array([[1.0, 1.0], [1.0, 1.0], [-0.6, 0.8], [0.3, -1.0], [1.0, 0.9], [0.0, 0.0]])
+env = np.array([0, 1, 2, 3, 0, 1])
+ep, _ = run(body, (0.5, 0.5), (0.5, -0.5), w, env, backend="cuda")
+np.savez(sys.argv[1], first=ep.first_step, dmin=ep.min_dist, steps=ep.steps, finite=ep.finite)
+"""
+
+
+def test_cuda_kernel_under_the_simulator_matches_the_cpu_kernel(tmp_path: object) -> None:
+    """The CUDA path (one thread an episode, the same episode source) run by numba's CUDA simulator
+    in a subprocess (NUMBA_ENABLE_CUDASIM must be set before numba.cuda is imported): every output
+    equals the CPU kernel's on six episodes (600 steps: the simulator runs Python per thread)."""
+    import os
+    import subprocess
+    import sys
+    from pathlib import Path
+
+    out = Path(str(tmp_path)) / "cuda.npz"
+    env = {**os.environ, "NUMBA_ENABLE_CUDASIM": "1"}
+    r = subprocess.run([sys.executable, "-c", _CUDA_SCRIPT, str(out), "600"], env=env, capture_output=True, text=True)
+    assert r.returncode == 0, r.stderr[-2000:]
+    got = np.load(out)
+    body = BODY.replace(steps=600)
+    w = np.array([[1.0, 1.0], [1.0, 1.0], [-0.6, 0.8], [0.3, -1.0], [1.0, 0.9], [0.0, 0.0]])
+    ep, _ = run(body, *CANONICAL, w, np.array([0, 1, 2, 3, 0, 1]))
+    assert np.array_equal(got["first"], ep.first_step) and np.array_equal(got["steps"], ep.steps)
+    assert np.allclose(got["dmin"], ep.min_dist, rtol=0, atol=1e-12) and got["finite"].all()
+    assert ep.success.any() and not ep.success.all()  # both outcomes occur in the six
+
+
+def test_unknown_backend_is_one_line() -> None:
+    with pytest.raises(ValueError, match="backend = 'gpu' is invalid; allowed: 'cpu', 'cuda'"):
+        run(BODY, *CANONICAL, [[1.0, 1.0]], [0], backend="gpu")

@@ -23,10 +23,18 @@ def run(
     *,
     stop_at_success: bool = True,
     path: bool = False,
+    backend: str = "cpu",
 ) -> tuple[Episodes, np.ndarray | None]:
     """Episodes of one design (sensor points ``l1``, ``l2``, project frame), weights ``w`` (n, 2),
     environments ``env`` (n,). ``path``: also the chassis centre at each step (n, steps, 2), NaN
-    after the episode stopped."""
+    after the episode stopped. ``backend``: ``cpu`` (numba, parallel over cores) or ``cuda`` (one
+    GPU thread an episode, :mod:`morphlearn.reduced.cuda`)."""
+    if backend not in ("cpu", "cuda"):
+        raise ValueError(f"backend = {backend!r} is invalid; allowed: 'cpu', 'cuda'")
+    if backend == "cuda":
+        from morphlearn.reduced import cuda as kernel
+    else:
+        from morphlearn.reduced import cpu as kernel
     from morphlearn.reduced import cpu
 
     w, env, sensors = check_inputs(l1, l2, w, env)
@@ -61,5 +69,5 @@ def run(
             )
             track[i, steps[i] :] = np.nan
     else:
-        cpu.run_batch(*args, lights, np.ascontiguousarray(pts), w, bool(stop_at_success), first, dmin, steps, finite)
+        kernel.run_batch(*args, lights, np.ascontiguousarray(pts), w, bool(stop_at_success), first, dmin, steps, finite)
     return Episodes(first, dmin, steps, finite), track
