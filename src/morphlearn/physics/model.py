@@ -340,7 +340,9 @@ class Physics(Model):
             folder = design_cache.cache_dir(s.results_dir, self.name, self.science(s))
         out = []
         for i, d in enumerate(tqdm(designs, unit="design", mininterval=1.0)):
-            log = EpisodeProgress(f"design {int(d)} ({i + 1}/{len(designs)})")
+            label = f"design {i + 1}/{len(designs)} (index {int(d)})"
+            print(f"{label}: started", flush=True)  # the shard log is never silent for a whole design
+            log = EpisodeProgress(label, at_most=e.options.adaptive_weights)
             kw = {"partial": design_cache.partial_path(folder, int(d))} if folder else {}
             out.append(evaluate_design(*self.sensors(s, int(d)), w, e.params, progress=log, options=e.options, **kw))
             if done:
