@@ -14,13 +14,19 @@ The variants (toward the theory; the theory model: docs/model.md):
 
 - ``reduced``: the model as built (docs/reduced.md);
 - ``planar sensors``: the sensors at the light's height (2D distances, as the theory reads them);
-- ``pure rolling``: contact slip 1e-6 instead of 0.01 (the wheels do not slip: the theory's
-  kinematics);
+- ``no slip``: every contact's slip 1e-6 instead of 0.01. The authors' castor is a sphere on a
+  fixed hinge, not a swivel: without slip the robot cannot turn at all;
+- ``free castor``: the castor as an ideal swivel (no force from its contact), the wheels as built;
+- ``no wheel slip``: the wheels' contacts stiff (slip 1e-6), the castor as built;
+- ``rolling drive``: no wheel slip and a free castor: the theory's differential drive, with the
+  robot's inertia and motors;
 - ``no inertia``: every mass and inertia x 1e-6 (velocities follow the motors at once);
 - ``no torque cap``: the motors reach their targets at once (cap x 1e6);
 - ``linear motor law``: the target proportional to w s, without tanh or a speed limit (the theory's
   law; emulated exactly to O(eps^2) by max_speed / eps and weights x eps, eps = 1e-4);
-- ``kinematic`` : planar sensors, pure rolling, no inertia, no torque cap and the linear law at once.
+- ``kinematic``: planar sensors, the rolling drive, no inertia, no torque cap and the linear law at
+  once (what is left of the theory's world: the body's size and success radius, the light's
+  distance and the horizon, as the authors' robot has them).
 
 Usage::
 
@@ -53,7 +59,8 @@ EPS = 1e-4
 class Variant:
     name: str
     params: Callable[[EmpiricalParams], EmpiricalParams] = lambda p: p
-    slip: float = authors.SLIP
+    slip: float = authors.SLIP  # the wheels' contacts
+    castor_slip: float | None = authors.SLIP  # None: a free swivel (no force)
     mass_scale: float = 1.0
     planar: bool = False
     linear: bool = False
@@ -62,7 +69,10 @@ class Variant:
 VARIANTS = [
     Variant("reduced"),
     Variant("planar sensors", planar=True),
-    Variant("pure rolling", slip=1e-6),
+    Variant("no slip", slip=1e-6, castor_slip=1e-6),
+    Variant("free castor", castor_slip=None),
+    Variant("no wheel slip", slip=1e-6),
+    Variant("rolling drive", slip=1e-6, castor_slip=None),
     Variant("no inertia", mass_scale=1e-6),
     Variant("no torque cap", params=lambda p: p.replace(max_torque=p.max_torque * 1e6)),
     Variant("linear motor law", linear=True),
@@ -70,6 +80,7 @@ VARIANTS = [
         "kinematic",
         params=lambda p: p.replace(max_torque=p.max_torque * 1e6),
         slip=1e-6,
+        castor_slip=None,
         mass_scale=1e-6,
         planar=True,
         linear=True,
@@ -82,7 +93,9 @@ def constants(v: Variant, p: EmpiricalParams, l1: tuple[float, float], l2: tuple
     m, s = bodymod.mass_matrix(p, l1, l2)
     m, s = m * v.mass_scale, s * v.mass_scale
     j = bodymod.contact_jacobian(p)
-    a = m + p.dt / v.slip * j.T @ j
+    # rows: left wheel x, y, right wheel x, y, castor x, y; each a damper of 1 / slip
+    c = np.array([1 / v.slip] * 4 + ([0.0, 0.0] if v.castor_slip is None else [1 / v.castor_slip] * 2))
+    a = m + p.dt * j.T @ np.diag(c) @ j
     ai = np.linalg.inv(a)
     k = p.dt * ai[3:5, 3:5] + bodymod.ODE_CFM * np.eye(2)
     k3 = (k[0, 0], 0.5 * (k[0, 1] + k[1, 0]), k[1, 1])
