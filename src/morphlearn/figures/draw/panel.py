@@ -21,5 +21,17 @@ def missing(ax: Axes, text: str = MISSING_TEXT, title: str | None = None) -> Non
 
 
 def panel_letter(ax: Axes, letter: str) -> None:
-    # left of the axes, clear of a centred multi-line title as wide as the axes (Fig. 6)
-    ax.text(-0.08, 1.02, letter, transform=ax.transAxes, ha="right", va="bottom", fontsize=14, fontweight="bold")
+    """The panel's letter left of the axes, its top level with the top of the axes' title (its
+    first line: a centred multi-line title wider than the axes runs into a letter level with its
+    last line, Fig. 6 D); above the axes when there is no title. Placed at draw time: the title may
+    be set after the letter."""
+    ax.annotate(
+        letter,
+        xy=(-0.08, 1.0),
+        xycoords=("axes fraction", ax.title),  # x on the axes, y on the title's box
+        ha="right",
+        va="top",
+        fontsize=14,
+        fontweight="bold",
+        annotation_clip=False,
+    )
