@@ -77,7 +77,8 @@ class Physics(Model):
     engine: ClassVar[str]
     #: The engine as prose names it (tables, docs).
     engine_label: ClassVar[str] = ""
-    #: Fig. 1C draws this engine's body (read even when the model is off, if figures are drawn).
+    #: Fig. 1C draws this engine's robot and body, the one the headline numbers use (read even when
+    #: the model is off, if figures are drawn).
     figure_body: ClassVar[bool] = False
     #: The engine the paper's physics ran in (ODE): drawn and answered first where enabled.
     paper_engine: ClassVar[bool] = False
