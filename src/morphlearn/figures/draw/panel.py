@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import numpy as np
 from matplotlib.axes import Axes
 
 MISSING_TEXT = "empirical results not in this run"
@@ -35,3 +36,11 @@ def panel_letter(ax: Axes, letter: str) -> None:
         fontweight="bold",
         annotation_clip=False,
     )
+
+
+def fit_to_data(ax: Axes, x: np.ndarray, y: np.ndarray, low: float = 0.04, high: float = 0.06) -> None:
+    """Axes of non-negative values fitted to them: from ``-low`` to ``1 + high`` times each
+    maximum (a maximum of 0: a small range round 0), no headroom for a legend (place it outside)."""
+    for lim, v in ((ax.set_xlim, x), (ax.set_ylim, y)):
+        top = float(np.nanmax(np.asarray(v, dtype=np.float64))) or 1e-3
+        lim(-low * top, (1 + high) * top)
