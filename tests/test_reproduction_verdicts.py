@@ -59,6 +59,7 @@ def test_built_as_the_committed_table_was(table: pd.DataFrame) -> None:
 
 
 def test_only_the_paper_robot_in_its_engine_is_judged_and_the_header_says_what_holds(table: pd.DataFrame) -> None:
+    assert table.key.is_unique
     paper = table[table.section == PAPER]
     # the theory and the authors' robot in ODE (its refined designs and its survey), nothing else
     assert set(paper.model) == {"theory", "ODE (the paper's engine)", "ODE (the paper's engine): survey"}
@@ -153,6 +154,31 @@ def test_no_comparison_over_fewer_designs_than_the_minimum_is_a_result(table: pd
     few = beyond[beyond.ours.str.startswith("not computed: the two hold")]
     assert {q.split(":")[0] for q in few.quantity} == {"pybullet vs MuJoCo", "pybullet vs ODE"}
     assert not beyond.quantity.str.contains(r"^pybullet vs (?:MuJoCo|ODE): designs in both top 10").any()
+
+
+def test_a_run_of_another_robot_only_judges_no_physics_claim() -> None:
+    """results/survey (theory and pybullet with the project's body on the 5-point grid): the
+    paper's physics claims are listed once, unanswered; pybullet's answers and its survey's stand
+    apart without a verdict; every key once."""
+    from morphlearn.figures.reproduction.table import reproduction_table
+
+    b = ROOT / "results/survey"
+    theory, emp = fd.load_results(b, "theory", None), fd.load_results(b, "empirical", None)
+    t = reproduction_table(theory, emp, pd.read_csv(b / "persistence.csv"), "cfg", 1.0)
+    assert t.key.is_unique
+    paper = t[t.section == PAPER]
+    physics = paper[paper.model != "theory"]
+    assert set(physics.model) == {"physics"} and set(physics.verdict) == {NOT_COMPARABLE}
+    assert set(physics.reason) == {claims.NOT_RUN} and physics.key.str.startswith("physics_").all()
+    assert len(t[t.section == OTHER_ROBOT]) == len(physics)
+    rows = t.set_index("key")
+    why = models.get("empirical").not_the_paper(emp.science)
+    for key in ("survey_canonical_rank", "survey_best_on_both"):
+        assert rows.at[key, "section"] == BEYOND_SECTION and rows.at[key, "verdict"] == ""
+        assert rows.at[key, "note"] == why
+    md = writers.to_markdown(t, "cfg")
+    assert "No results of the paper's robot in its engine (the authors' robot in ODE) are in this run." in md
+    assert "Another 9 rows give the paper's physics claims as pybullet answers them" in md
 
 
 def test_engine_reasons_come_from_the_plugins() -> None:

@@ -44,8 +44,10 @@ def reason_of(claim: Claim, model: str) -> tuple[str, str]:
 
 
 def claim_key(claim: Claim, model: str) -> str:
-    """A row's key: the claim's, with a physics engine's name for engines other than the reference."""
-    physics = claim.model == "physics" and model not in ("physics", physics_models()[0])
+    """A row's key: the claim's, with a physics engine's name for engines other than the reference
+    (and "physics_" for the rows of a claim no results of this run answer, which may stand beside
+    the reference engine's answers of another robot: keys are unique)."""
+    physics = claim.model == "physics" and model != physics_models()[0]
     return claim.key.replace("empirical_", f"{model}_", 1) if physics else claim.key
 
 
