@@ -1,4 +1,5 @@
-"""Episodes per core-second of the authors' robot in ODE, MuJoCo and pybullet (docs/authors_robot.md).
+"""Episodes per core-second of the authors' robot in ODE, MuJoCo, pybullet and the reduced model
+(docs/authors_robot.md, docs/reduced.md).
 
 The same cells in each engine: ``--designs`` designs of the 5-positions-per-axis grid (the
 canonical design first, then a fixed random sample) x 4 environments x ``--m`` x ``--m`` weights,
@@ -7,7 +8,7 @@ a design's episodes in one batch, as the workflow's sweep runs them), every epis
 success or the horizon. Rate = episodes / CPU seconds of this process; and how many cells each
 engine gives ODE's outcome. Usage::
 
-    python benchmarks/bench_authors_robot.py [--designs 3] [--m 5] [--seed 0]
+    NUMBA_NUM_THREADS=1 python benchmarks/bench_authors_robot.py [--designs 3] [--m 5] [--seed 0] [--only ODE reduced]
 """
 
 from __future__ import annotations
@@ -23,6 +24,7 @@ from morphlearn.grid import DesignGrid, canonical_design, weights
 from morphlearn.mujoco.authors import AuthorsBatchRunner
 from morphlearn.ode import core
 from morphlearn.physics.params import load_params
+from morphlearn.reduced import core as reduced
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -41,6 +43,7 @@ def main() -> None:
     ap.add_argument("--designs", type=int, default=3)
     ap.add_argument("--m", type=int, default=5)
     ap.add_argument("--seed", type=int, default=0)
+    ap.add_argument("--only", nargs="+", help="these engines only (ODE first: the reference)")
     a = ap.parse_args()
     body = load_params(ROOT / "config/authors_body.yaml")
     w = weights(a.m)
@@ -50,14 +53,21 @@ def main() -> None:
         "ODE": lambda d: core.run(body, *d, ww, env)[0].success,
         "MuJoCo": lambda d: ~np.isnan(AuthorsBatchRunner(body).run(*d, ww, env).first_time),
         "pybullet": lambda d: ~np.isnan(AuthorsEpisodeRunner(body).run(*d, ww, env).first_time),
+        # the reduced model's kernel is compiled (numba's cache) before the clock starts, on one thread
+        "reduced": lambda d: reduced.run(body, *d, ww, env)[0].success,
     }
+    reduced.run(body, *designs(1, a.seed)[0], ww[:1], env[:1])
     out: dict[str, tuple[float, list[np.ndarray]]] = {}
     for name, run in engines.items():
+        if a.only and name not in a.only:
+            continue
         t = time.process_time()
         succ = [run(d) for d in designs(a.designs, a.seed)]
         out[name] = (time.process_time() - t, succ)
     n = a.designs * len(ww)
     print(f"{a.designs} designs x 4 envs x {a.m}x{a.m} weights = {n} episodes per engine; one core")
+    if "reduced" in out and "ODE" in out:
+        print(f"reduced / ODE episodes per core-second: {out['ODE'][0] / out['reduced'][0]:.0f}x")
     ref = np.concatenate(out["ODE"][1])
     for name, (spent, succ) in out.items():
         s = np.concatenate(succ)

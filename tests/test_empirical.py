@@ -167,6 +167,14 @@ def test_episode_progress_lines_are_throttled(capsys: pytest.CaptureFixture[str]
         "design 7 (1/2): 3/5 episodes, 10.333 s each, ~21 s left in this design",
         "design 7 (1/2): 5/5 episodes, 8.000 s each",
     ]
+    t = iter([0.0, 31.0, 40.0])  # the adaptive grid: an upper bound, no time left guessed
+    log = EpisodeProgress("design 1/2 (index 7)", every_s=30.0, clock=lambda: next(t), at_most=True)
+    log(3, 5)
+    log(5, 5)
+    assert capsys.readouterr().out.splitlines() == [
+        "design 1/2 (index 7): 3/5 episodes at most (adaptive weight grid)",
+        "design 1/2 (index 7): done in 40 s (adaptive weight grid)",
+    ]
 
 
 def test_mirror_derive_simulates_one_of_each_pair(tmp_path: Path) -> None:

@@ -219,13 +219,15 @@ def test_refined_rows_say_how_the_theory_best_designs_do_in_physics() -> None:
     rows = {r["key"]: r for r in refined_rows(theory, mj, "mujoco", "cfg")}
     canon = metrics.find_row(emp.table, grid.canonical_design())
     m2 = emp.n_controllers
-    # the further engine's answers to the paper's physics claims are rows of the claims table, each
-    # with the paper's own value (the paper's physics ran in ODE, not pybullet) and the engine named
+    # the further engine's answers to the paper's physics claims are rows beside the claims table
+    # (another engine and body: no verdict), each with the paper's own value (the paper's physics
+    # ran in ODE, not pybullet) and the engine named
     table = reproduction_table(theory, emp, None, "cfg", 1.0, engines={"mujoco": mj}).set_index("key")
     assert table.at["mujoco_canonical_M_L", "ours"] == f"{canon.M_L:.4g}"
     assert table.at["mujoco_canonical_generalists", "ours"].startswith(f"{int(canon.generalists)} of {m2}")
     assert table.at["mujoco_canonical_M_L", "quantity"] == "canonical design: M_L"
-    assert table.at["mujoco_canonical_M_L", "model"] == "MuJoCo (another engine)"
+    assert table.at["mujoco_canonical_M_L", "model"] == "MuJoCo (another engine, the project's own body)"
+    assert table.at["mujoco_canonical_M_L", "section"] == "another robot"
     assert table.at["mujoco_best_on_both", "paper"] == "yes"
     assert set(rows) == {f"mujoco_theory_best_{by}_in_physics" for by in metrics.METRICS}
     for by in metrics.METRICS:

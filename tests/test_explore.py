@@ -37,8 +37,12 @@ def survey() -> explore.Explorer:
 
 def test_sources_list_every_model_of_every_bundle() -> None:
     labels = [s.label for s in explore.sources(RESULTS)]
-    for want in ("theory (paper)", "empirical (paper)", "theory (survey)", "empirical (survey)"):
+    for want in ("theory (paper)", "pybullet (paper)", "MuJoCo (paper)", "ODE (paper)", "pybullet (survey)"):
         assert want in labels
+    # issue 59: one name per source, the engine's (as the engines table and the figures name it),
+    # never the registry's ('empirical (paper)' in one list, 'pybullet' in another)
+    assert not [x for x in labels if x.split(" (")[0] in ("empirical", "mujoco", "ode")], labels
+    assert len(set(labels)) == len(labels)
     assert explore.default_results_dir(ROOT / "notebooks") == ROOT / "results"
     assert labels[0] == "theory (paper)"  # the default, whatever other bundles sort before it
 
@@ -173,10 +177,10 @@ def test_app_selects_by_click_and_by_dropdown(tmp_path: Path) -> None:
     app._on_matrix_click(type("E", (), {"inaxes": app.fig_design.axes[2], "xdata": -0.52, "ydata": 0.61})())
     assert app.w == (-0.5, 0.6) or np.allclose(app.w, (-0.5, 0.6))
     assert "data-stage='done'" in app.w_status.value and len(app.trs) == 4
-    app.w_source.value = "empirical (survey)"
+    app.w_source.value = "pybullet (survey)"
     assert app.ex.res.model == "empirical" and app.w_weights.disabled
     rep = explore.write_report(tmp_path / "r.json", app)
-    assert rep["source"] == "empirical (survey)" and "first_success" not in rep
+    assert rep["source"] == "pybullet (survey)" and "first_success" not in rep
 
 
 def test_notebook_runs_headless_with_parameters(tmp_path: Path) -> None:
@@ -337,9 +341,9 @@ def test_app_keeps_the_design_across_sources_and_opens_a_shared_view() -> None:
     assert len(app.fig_engines.axes) == 5  # four matrices and their colour bar
     assert "rank 1 of 3" in explore_app.engines_html(app.engines(), "paper")
     # another source of the same bundle: the same design
-    app.w_source.value = "mujoco (paper)"
+    app.w_source.value = "MuJoCo (paper)"
     assert app.design == 720 and app.land.source == "bundle"
-    assert explore.parse_view(app.bridge.query) == explore.View("mujoco (paper)", 720, "M_CF", app.w)
+    assert explore.parse_view(app.bridge.query) == explore.View("MuJoCo (paper)", 720, "M_CF", app.w)
     # a bundle with a coarser grid: the nearest design, said so
     app.w_source.value = "theory (paper)"
     app.select(app.ex.design_of((0.375, 0.5), (0.0, 0.125)))

@@ -404,9 +404,9 @@ def test_shared_url_and_engines_side_by_side(
             assert ui.page.evaluate(f"{CANVASES}[6].width") > 0
             shots = ui.shots(tmp_path, "1920x1080")
             # another results source: the design is kept
-            ui.select("results", "mujoco (paper)")
+            ui.select("results", "MuJoCo (paper)")
             ui.page.wait_for_function(
-                "() => (new URLSearchParams(location.search)).get('source') === 'mujoco (paper)'", timeout=120_000
+                "() => (new URLSearchParams(location.search)).get('source') === 'MuJoCo (paper)'", timeout=120_000
             )
             ui.done()
             assert ui.design() == str(SHARED_DESIGN)

@@ -261,10 +261,15 @@ CONFIG_PROBES = [
     ({"results_dir": ""}, "results_dir = ''"),
     ({"results_dir": "/"}, "results_dir = '/' is the file-system root"),
     ({"results_dir": "{file}"}, "is an existing file"),
-    # The body file is read when figures (Fig. 1) or the empirical model are enabled.
-    ({"empirical": {"morphology": "{bad_yaml}"}, "figures": {"enabled": True}}, "malformed YAML at line"),
+    # A body file is read when its model is enabled, and Fig. 1C's (the registry's figure_body: the
+    # ode model, the authors' robot the headline numbers use; issue 59) when figures are.
+    ({"ode": {"morphology": "{bad_yaml}"}, "figures": {"enabled": True}}, "malformed YAML at line"),
     (
-        {"empirical": {"morphology": "nowhere.yaml"}, "figures": {"enabled": True}},
+        {"ode": {"morphology": "nowhere.yaml"}, "figures": {"enabled": True}},
+        "ode.morphology = 'nowhere.yaml': cannot read",
+    ),
+    (
+        {"empirical": {"enabled": True, "results_from": None, "morphology": "nowhere.yaml"}},
         "empirical.morphology = 'nowhere.yaml': cannot read",
     ),
 ]

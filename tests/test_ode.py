@@ -257,3 +257,35 @@ def test_adaptive_stride_reaches_the_science_record() -> None:
     assert sci == [{"stride": 2, "near": 4.0}, {"stride": 4, "near": 4.0}]
     with pytest.raises(config.ConfigError, match=r"ode\.adaptive_stride = 1 is invalid"):
         configure.parse({**base, "ode": {**on, "adaptive_stride": 1}})
+
+
+@pytest.mark.parametrize("adaptive", [False, True])
+def test_shard_log_has_a_progress_line_per_design(tmp_path, capsys: pytest.CaptureFixture[str], adaptive: bool) -> None:
+    """Issue 59: an ODE shard's log (its stdout) says when each design starts and how far it is,
+    'design k/n (index d): e/E episodes', never silent for a whole design; with the adaptive grid
+    the count is an upper bound and no time left is guessed."""
+    from pathlib import Path
+
+    from morphlearn import config as cfgmod
+    from morphlearn import configure, rules
+
+    root = Path(__file__).resolve().parents[1]
+    cfg = cfgmod.load(root / "config.yaml", [root / "config/smoke.yaml"])
+    over = {
+        "results_dir": str(tmp_path),
+        "grid": {"positions_per_axis": 5},
+        "empirical": {"enabled": False, "results_from": None},
+        "ode": {
+            "enabled": True,
+            "weights": 3,
+            "designs": [[[0.5, 0.5], [0.5, -0.5]], [[-0.5, 0.0], [0.5, -0.5]]],
+            "include_mirrors": False,
+            "adaptive_weights": adaptive,
+        },
+    }
+    s = configure.parse(cfgmod.validate(cfgmod.deep_merge(cfg, over)))
+    rules.run_shard(s, "ode", 0, tmp_path / "shard_0.nc")
+    out = capsys.readouterr().out
+    assert "design 1/2 (index 70): started" in out and "design 2/2 (index 620): started" in out
+    end = "done in" if adaptive else "36/36 episodes"
+    assert f"design 1/2 (index 70): {end}" in out and f"design 2/2 (index 620): {end}" in out, out

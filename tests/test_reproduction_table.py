@@ -14,7 +14,7 @@ from conftest import ROOT
 
 from morphlearn.figures import data as fd
 from morphlearn.figures.reproduction import claims, verdict, writers
-from morphlearn.figures.reproduction.table import PAPER, reproduction_table
+from morphlearn.figures.reproduction.table import OTHER_ROBOT, PAPER, reproduction_table
 from morphlearn.figures.reproduction.verdict import DIFFERS, NOT_COMPARABLE, REPRODUCED, Scope
 
 DOCS = (ROOT / "docs/results.md").read_text()
@@ -61,14 +61,15 @@ def test_every_claim_kind_has_a_stated_tolerance_and_the_rule_is_note_one() -> N
 
 @pytest.fixture(scope="module")
 def paper_table() -> pd.DataFrame:
-    """The table of the committed paper bundle (theory at paper resolution; pybullet on 3 designs,
-    MuJoCo on 41, both at 121 x 121) as the reproduction rule builds it."""
+    """The table of the committed paper bundle (theory at paper resolution; ODE on 10 designs,
+    pybullet on 3, MuJoCo on 41, all at 121 x 121; the ODE survey) as the reproduction rule builds it."""
     b = ROOT / "results/paper"
     theory = fd.load_results(b, "theory", None)
     emp = fd.load_results(b, "empirical", None)
-    mj = fd.load_results(b, "mujoco", None)
+    engines = {m: fd.load_results(b, m, None) for m in ("mujoco", "ode")}
+    survey = fd.load_survey(b, {"model": "ode", "thresholds": None})
     pers = pd.read_csv(b / "persistence.csv")
-    return reproduction_table(theory, emp, pers, CONFIG, 1.0, engines={"mujoco": mj})
+    return reproduction_table(theory, emp, pers, CONFIG, 1.0, engines=engines, survey=survey)
 
 
 def test_a_claim_whose_value_differs_carries_its_reason_linked_in_the_docs(paper_table: pd.DataFrame) -> None:
@@ -81,11 +82,13 @@ def test_a_claim_whose_value_differs_carries_its_reason_linked_in_the_docs(paper
     assert row.verdict == DIFFERS and row.ours == f"{canon.M_CF:.4g}" and row.anchor == "differs-theory-m-cf"
     # the caption's count (57) is within the rule of ours
     assert abs(canon.generalists - 57) <= 2 and t.loc["theory_canonical_generalists", "verdict"] == REPRODUCED
-    # pybullet's canonical design: 33 generalists, not the paper's 1 (another engine, our body)
+    # pybullet's canonical design: 33 generalists, not the paper's 1; another engine and our body
+    # answer another question: beside the paper's claim, no verdict (issue 59)
     emp = pd.read_csv(ROOT / "results/paper/empirical/metrics.csv")
     g = int(emp[(emp.l1x == 0.5) & (emp.l1y == 0.5) & (emp.l2x == 0.5) & (emp.l2y == -0.5)].generalists.iloc[0])
-    assert g > 3 and t.loc["empirical_canonical_generalists", "verdict"] == DIFFERS
-    assert t.loc["empirical_canonical_generalists", "anchor"] == "differs-other-engines"
+    row = t.loc["empirical_canonical_generalists"]
+    assert g > 3 and row.section == OTHER_ROBOT and row.verdict == "" and row.ours.startswith(f"{g} of ")
+    assert "another engine and another robot than the paper's" in row.note
     # every "differs" has a one-sentence reason and an anchor that docs/results.md defines
     claims_rows = paper_table[paper_table.section == PAPER]
     for r in claims_rows[claims_rows.verdict == DIFFERS].itertuples():
@@ -95,10 +98,8 @@ def test_a_claim_whose_value_differs_carries_its_reason_linked_in_the_docs(paper
     nc = claims_rows[claims_rows.verdict == NOT_COMPARABLE]
     assert len(nc) and (nc.reason != "").all() and (nc.anchor == "").all()
     assert set(claims_rows.verdict) == {REPRODUCED, DIFFERS, NOT_COMPARABLE}
-    # the best design of pybullet's 2 designs is no verdict on the best of all 6561 ...
-    assert t.loc["empirical_best_design", "verdict"] == NOT_COMPARABLE
-    # ... but its count already above the paper's best is a difference (the lower-bound rule)
-    assert t.loc["empirical_best_M_L", "verdict"] == DIFFERS
+    # the best design of ODE's 10 designs is no verdict on the best of all 6561
+    assert t.loc["ode_best_design", "verdict"] == NOT_COMPARABLE
 
 
 def test_notes_once_and_numbered_and_the_beyond_rows_apart(paper_table: pd.DataFrame) -> None:
@@ -120,6 +121,9 @@ def test_notes_once_and_numbered_and_the_beyond_rows_apart(paper_table: pd.DataF
     n_claims = (paper_table.section == PAPER).sum()
     assert len(re.findall(r"^\| \d+ \|", claims_part, flags=re.M)) == n_claims
     assert "beyond the paper" not in claims_part.split("## The paper's claims")[1] and "beyond the paper" in beyond_part
+    # the other engines' answers: a table of their own between the two, no verdicts
+    other = claims_part.split(f"## {writers.OTHER_HEADING}")[1]
+    assert len(re.findall(r"^\| [a-z]", other, flags=re.M)) == (paper_table.section == OTHER_ROBOT).sum() + 1
     # linked from the repository's root: the same bytes wherever the results folder is
     assert "](/docs/results.md#differs-theory-m-cf)" in claims_part
     # the verdict counts in the header are the table's
@@ -135,22 +139,26 @@ def test_notes_once_and_numbered_and_the_beyond_rows_apart(paper_table: pd.DataF
 
 def test_the_paper_engine_comes_first_and_the_paper_column_names_no_other_engine(paper_table: pd.DataFrame) -> None:
     """With the authors' robot in ODE (the committed results/ode-paper), its rows answer the
-    physics claims first; the paper's column is the paper's, whatever engine answers it."""
+    physics claims; pybullet's (another engine, the project's body) stand apart without a verdict;
+    the paper's column is the paper's, whatever engine answers it."""
     ode = fd.load_results(ROOT / "results/ode-paper", "ode", None)
     emp = fd.load_results(ROOT / "results/paper", "empirical", None)
     t = reproduction_table(None, emp, None, CONFIG, 1.0, engines={"ode": ode})
     physics = t[(t.section == PAPER) & ~t.model.eq("theory")]
     models_in_order = list(dict.fromkeys(physics.model))
-    assert models_in_order == ["ODE (the paper's engine)", "pybullet (another engine)"]
+    assert models_in_order == ["ODE (the paper's engine)"]
+    assert set(t[t.section == OTHER_ROBOT].model) == {"pybullet (another engine, the project's own body)"}
     rows = t.set_index("key")
     table = pd.read_csv(ROOT / "results/ode-paper/ode/metrics.csv").set_index("design")
     assert int(table.loc[6552, "generalists"]) == 1 and int(table.loc[478, "generalists"]) == 57  # the paper's
     assert rows.loc["ode_canonical_generalists", "verdict"] == REPRODUCED
     assert rows.loc["ode_paper_best_generalists", "verdict"] == REPRODUCED
     assert rows.loc["ode_canonical_M_L", "verdict"] == REPRODUCED  # 1/14641 against 0.000068
-    # its best of the few designs held equals the paper's best: no verdict on all 6561 from it
-    assert rows.loc["ode_best_M_L", "verdict"] == NOT_COMPARABLE
-    assert f"{len(table)} of the paper's 6561 designs held" in rows.loc["ode_best_M_L", "reason"]
+    # the M_L of the paper's best design, judged at it; which design is best of all 6561: no
+    # verdict from the few held
+    assert rows.loc["ode_best_M_L", "verdict"] == REPRODUCED
+    assert rows.loc["ode_best_design", "verdict"] == NOT_COMPARABLE
+    assert f"{len(table)} of the paper's 6561 designs held" in rows.loc["ode_best_design", "reason"]
     for frame in (t, paper_table):
         assert not frame[frame.section == PAPER].paper.str.contains("pybullet|MuJoCo").any()
     # the same claim for each engine: the paper's value once per row, the engine in its own column
@@ -197,6 +205,7 @@ def test_engine_agreement_on_a_few_shared_designs_is_one_row_not_four_undefined(
     said = [r["ours"] for r in rows if "Spearman" in r["quantity"]]
     assert len(said) == 1 and said[0].startswith(f"not computed: the two hold {emp.n_designs} designs in common")
     assert said[0].endswith(f"at least {MIN_DESIGNS} to tell agreement from chance")
+    assert len(rows) == 1  # nor a top-10 overlap of 3 designs ("3 of 3": no result)
     assert not any("undefined" in r["ours"] for r in rows)
 
 

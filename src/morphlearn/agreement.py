@@ -39,6 +39,8 @@ if TYPE_CHECKING:
 
 #: Designs compared in the top-N overlap.
 TOP = 10
+#: Generalists per design "close" to the reference's: within this many (issue 56's acceptance).
+GENERALIST_SLACK = 2
 
 
 @dataclass(frozen=True)
@@ -228,6 +230,9 @@ def compare(ref: Survey, cand: Survey) -> dict[str, Any]:
         "reference": float((a.generalists > 0).mean()),
         "candidate": float((b.generalists > 0).mean()),
     }
+    # a design's generalist count as a screen reads it: within GENERALIST_SLACK of the reference's
+    gap = (a.loc[common, "generalists"] - b.loc[common, "generalists"]).abs()
+    out["generalists_close"] = {"within": GENERALIST_SLACK, "share": float((gap <= GENERALIST_SLACK).mean())}
     out["screen"] = screen(ref, cand)
     held = sorted(set(ref.success) & set(cand.success))
     same = sum(int((ref.success[d] == cand.success[d]).sum()) for d in held)
@@ -316,6 +321,7 @@ def table(n: dict[str, Any]) -> pd.DataFrame:
                 "canonical_rank_M_L_ode": c["canonical"]["rank_M_L_reference"],
                 "with_generalist": c["with_generalist"]["candidate"],
                 "with_generalist_ode": c["with_generalist"]["reference"],
+                f"generalists_within_{GENERALIST_SLACK}": c["generalists_close"]["share"],
                 "best_M_L_rank_in_ode": c["best_M_L"]["its_rank_in_reference"],
                 "levers": c["levers"],
                 "bundle": c["bundle"],

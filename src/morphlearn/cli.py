@@ -69,7 +69,12 @@ def cmd_design(a: argparse.Namespace) -> int:
 
     l1 = _position("--l1", a.l1)
     l2 = _position("--l2", a.l2)
-    if not 2 <= a.weights <= MAX_WEIGHTS:
+    if a.weights < 2:  # the grid spans [-1, 1]: its two ends at least
+        raise UsageError(
+            f"--weights = {a.weights} must be in 2..{MAX_WEIGHTS}: the weights per synapse span [-1, 1], "
+            "so at least its two ends (the paper: 121)"
+        )
+    if a.weights > MAX_WEIGHTS:
         gib = 4 * a.weights**2 * 9 / 2**30  # first_time, min_dist (float32), status (int8) per cell
         raise UsageError(
             f"--weights = {a.weights} must be in 2..{MAX_WEIGHTS} (one design's 4 x {a.weights}"
@@ -113,10 +118,23 @@ def cmd_design(a: argparse.Namespace) -> int:
         envs = ", ".join(f"{ang} deg: {c}" for ang, c in zip(gridmod.ENV_ANGLES_DEG, dm.per_env, strict=True))
         vals = "; ".join(f"{m} = {v:.6f}" for m, v in dm.values.items())
         print(f"design l1={l1} l2={l2}, model {a.model}, {a.weights}x{a.weights} controllers")
+        print(_what_ran(model, a))
         print(f"successes per environment: {envs}")
         print(f"generalists (O == 4): {dm.generalists}; at least one (O >= 1): {dm.at_least_one}")
         print(f"{vals}; flagged trajectories: {dm.flagged}")
     return 0
+
+
+def _what_ran(model: Any, a: argparse.Namespace) -> str:
+    """The line of ``design``'s text output that says what simulated the design: the theory's
+    integrator, or a physics model's engine, robot and body file."""
+    if not hasattr(model, "cli_robot"):
+        how = f"fixed-step RK4, dt = {a.dt}" if a.dt is not None else "adaptive Dormand-Prince"
+        return f"simulated by: the {model.name} (differential equations, {how}; docs/model.md)"
+    robot = model.cli_robot(a)
+    engine = getattr(model, "engine_label", "") or model.engine
+    body = a.morphology or ROBOT_BODIES[robot]
+    return f"simulated by: engine {engine}, robot {robot} (body {body})"
 
 
 def cmd_verify(a: argparse.Namespace) -> int:
@@ -267,7 +285,7 @@ def cmd_compare(a: argparse.Namespace) -> int:
     body vs another)."""
     from scipy import stats
 
-    from morphlearn import compare, metrics
+    from morphlearn import compare
 
     if a.top < 1:
         raise UsageError(f"--top = {a.top}; allowed: an integer >= 1 (designs in each top list)")
@@ -288,10 +306,9 @@ def cmd_compare(a: argparse.Namespace) -> int:
     for m, r in agree.items():  # every registered metric
         defined = not np.isnan(r.rho)  # NaN: a model gives every shared design the same value (JSON: null)
         out[m] = {k: (v if defined else None) for k, v in (("rho", r.rho), ("low", r.low), ("high", r.high))}
-        top_a = set(metrics.rank_designs(tables[0][tables[0].design.isin(both.design)], m).design[: a.top])
-        top_b = set(metrics.rank_designs(tables[1][tables[1].design.isin(both.design)], m).design[: a.top])
-        out[m]["top_shared"] = len(top_a & top_b)
-        print(f"{m}: Spearman rho {r.text()}; top {a.top} by {m} shared: {len(top_a & top_b)}")
+        shared = compare.top_shared(both, m, a.top)  # by the joined rows: two grids index designs apart
+        out[m]["top_shared"] = shared
+        print(f"{m}: Spearman rho {r.text()}; top {a.top} by {m} shared: {shared}")
     if a.json:
         print(json.dumps(out, allow_nan=False))
     return 0
@@ -325,17 +342,23 @@ def configfiles_of(args: Sequence[str]) -> list[str]:
     return out
 
 
-RUN_HELP = """usage: morphlearn run [SNAKEMAKE OPTIONS ...]
+RUN_HELP = """usage: morphlearn run [TARGET ...] [SNAKEMAKE OPTIONS ...]
 
 Run the workflow: Snakemake with the same arguments, after checking the files its --configfile
 options name (an empty, binary or non-mapping file is refused in one line, exit 2, before
-Snakemake reads it). Examples:
+Snakemake reads it). A bundle is made from committed code only (the bundle rule refuses a dirty
+worktree).
+
+examples:
   morphlearn run --cores 2                                   the reduced workflow (config.yaml)
   morphlearn run all bundle --cores 2 --configfile config/ode_paper.yaml
+  morphlearn run --cores 2 --configfile my.yaml --config results_dir=results/mine
   morphlearn run --profile profiles/slurm --configfile config/paper.yaml    on a SLURM cluster
-A bundle is made from committed code only (the bundle rule refuses a dirty worktree).
+  morphlearn run -n --cores 2 --configfile my.yaml           dry run: the jobs it would run
 
-Snakemake's own options follow.
+The options used most: --cores N, --configfile FILE ..., --config KEY=VALUE ..., --profile DIR,
+--keep-going, -n (dry run). Every option is Snakemake's: snakemake --help lists them all
+(.venv/bin/snakemake --help). Config keys: config/README.md; outputs, resuming: docs/workflow.md.
 """
 
 
@@ -344,7 +367,8 @@ def cmd_run(args: Sequence[str]) -> int:
     ``--configfile`` files before the workflow starts, so an empty, binary or non-mapping one
     stopped in Snakemake's words (exit 1, no file name); here it is refused in one line, exit 2."""
     if any(x in ("-h", "--help") for x in args):
-        print(RUN_HELP, flush=True)  # what this verb does, before Snakemake's help
+        print(RUN_HELP, end="")  # Snakemake's own ~1,000 lines: snakemake --help, as it says
+        return 0
 
     from morphlearn.config import ConfigError, check_files
 
@@ -362,13 +386,31 @@ def cmd_run(args: Sequence[str]) -> int:
     return 0  # not reached
 
 
+DESIGN_HELP = """Evaluate one sensor placement (design) over every controller of the M x M weight grid in
+one model, in the four environments, and print its per-environment successes, generalists, M_L
+and M_CF (--json: one JSON object). Nothing is stored; a few designs of one's own in physics:
+docs/ode.md, "Your own designs in ODE".
+
+examples:
+  morphlearn design --l1 0.5 0.5 --l2 0.5 -0.5 --weights 121          the theory (seconds)
+  morphlearn design --model ode --l1 -0.5 0.125 --l2 0.5 -0.375 --weights 41
+      the paper's best physics design in ODE with the authors' robot (~225 CPU-s at 41 x 41;
+      121 x 121, every cell: ~1,800 CPU-s)
+"""
+
+
 def build_parser() -> argparse.ArgumentParser:
     from morphlearn.models import MODELS, REFERENCE
 
     p = _Parser(prog="morphlearn", description=__doc__)
     p.add_argument("--version", action=_Version, nargs=0, help="print version and git commit, and exit")
     sub = p.add_subparsers(dest="cmd", required=True)
-    d = sub.add_parser("design", help="evaluate one design over the M x M weight grid")
+    d = sub.add_parser(
+        "design",
+        help="evaluate one design over the M x M weight grid",
+        description=DESIGN_HELP,
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
     d.add_argument("--model", choices=list(MODELS), default=REFERENCE, help=f"the model to run ({REFERENCE})")
     d.add_argument(
         "--l1", nargs=2, type=float, required=True, metavar=("X", "Y"), help="sensor 1 on the body, x y in [-0.5, 0.5]"

@@ -173,6 +173,15 @@ def agreement(both: pd.DataFrame, n_resamples: int = 2000, names: tuple[str, str
     return {m: spearman_ci(both[f"{m}_{x}"], both[f"{m}_{y}"], m, n_resamples) for m in metrics.METRICS}
 
 
+def top_shared(both: pd.DataFrame, by: str, top: int, names: tuple[str, str] = PAIR) -> int:
+    """How many designs of :func:`joined` are in both tables' top ``top`` by ``by``, each table's
+    rank taken over the designs both hold. Counted on the joined rows (one design each, whatever
+    grid each table indexes), never on the two tables' own design indices: across two grids those
+    number different designs."""
+    x, y = names
+    return int(((both[f"rank_{by}_{x}"] <= top) & (both[f"rank_{by}_{y}"] <= top)).sum())
+
+
 def sensor_use(table: pd.DataFrame, top: int, by: str = "M_L") -> pd.DataFrame:
     """How often each sensor position is used by the ``top`` designs by ``by`` (both sensors
     counted): columns x, y, count; positions never used have count 0."""

@@ -60,7 +60,9 @@ class Source:
 
     @property
     def label(self) -> str:
-        return f"{self.model} ({self.bundle.name})"
+        """The one name the explorer gives these results everywhere (results list, engines table,
+        URL, export): the engine (``pybullet``, ``MuJoCo``, ``ODE``) or ``theory``, and the bundle."""
+        return f"{self.engine} ({self.bundle.name})"
 
     @property
     def engine(self) -> str:

@@ -369,21 +369,31 @@ class App:
         for f in self.figures.values():
             _canvas_options(f)
         self.bridge = Bridge(sync_url=os.environ.get("SERVER_SOFTWARE", "").startswith("voila"))
-        self.w_source = W.Dropdown(options=labels, value=view.source or source or labels[0], description="results")
+        self.w_source = W.Dropdown(
+            options=labels,
+            value=view.source or source or labels[0],
+            description="results",
+            layout=W.Layout(width="290px"),
+            style={"description_width": "60px"},
+        )
         self.w_weights = W.ToggleButtons(
             options=list(explore.LIVE_WEIGHTS),
             value=live_weights,
             description="live grid",
             tooltips=["41 x 41", "121 x 121"],
-            style={"button_width": "60px"},
+            style={"button_width": "60px", "description_width": "60px"},
+            layout=W.Layout(width="auto", margin="2px 4px 2px 16px"),  # clear of the sensor 2 dropdown
         )
-        self.w_l1 = W.Dropdown(description="sensor 1", layout=W.Layout(width="200px"))
-        self.w_l2 = W.Dropdown(description="sensor 2", layout=W.Layout(width="200px"))
+        # wide enough for the longest position, "(-0.375, -0.125)", beside its label (issue 59)
+        sensor = {"layout": W.Layout(width="225px"), "style": {"description_width": "60px"}}
+        self.w_l1 = W.Dropdown(description="sensor 1", **sensor)
+        self.w_l2 = W.Dropdown(description="sensor 2", **sensor)
         self.w_best = W.Dropdown(
             options=["-", "best M_L", "best M_CF", "canonical"],
             value="-",
             description="go to",
-            layout=W.Layout(width="200px"),
+            layout=W.Layout(width="175px"),
+            style={"description_width": "45px"},
         )
         self.w_rank_by = W.ToggleButtons(
             options=list(explore.METRIC_NAMES), value=view.metric, description="rank by", style={"button_width": "60px"}

@@ -137,6 +137,13 @@ class Model(ABC):
     def describe(self, science: Mapping[str, Any], n_designs: int, m: int) -> str:
         """One sentence for captions: the settings a dataset was made with (from its record)."""
 
+    def not_the_paper(self, science: Mapping[str, Any]) -> str:
+        """Why results made with ``science`` cannot answer the paper's claims as the paper put them
+        (another robot or another engine: a clause for the reproduction table), or "" when they can
+        (the theory; the paper's robot in the paper's engine). The weight and design grids are the
+        table's to check, not this."""
+        return ""
+
     # -- the command line (``morphlearn design``) ---------------------------------------------------
     def check_cli(self, a: argparse.Namespace) -> None:
         """Refuse physically meaningless options (raise ``cli.UsageError``); the config's rule where

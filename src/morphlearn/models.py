@@ -28,6 +28,7 @@ PLUGINS: dict[str, str] = {
     "empirical": "morphlearn.empirical.plugin:Pybullet",
     "mujoco": "morphlearn.mujoco.plugin:Mujoco",
     "ode": "morphlearn.ode.plugin:Ode",
+    "reduced": "morphlearn.reduced.plugin:Reduced",
 }
 
 
@@ -97,8 +98,16 @@ def schema_sections() -> dict[str, str]:
 
 
 def figure_body() -> str:
-    """The physics model whose body Fig. 1C draws (``Physics.figure_body``: the reference engine)."""
+    """The physics model whose robot and body Fig. 1C draws (``Physics.figure_body``: the one the
+    headline numbers use, the authors' robot in ODE)."""
     return next(n for n in physics() if getattr(MODELS[n], "figure_body", False))
+
+
+def reference_physics() -> str:
+    """The reference physics engine: the first physics model in registry order (pybullet, the
+    workflow's ``empirical`` results, with the project's body)."""
+    found = set(physics())
+    return next(n for n in MODELS if n in found)
 
 
 def physics() -> list[str]:

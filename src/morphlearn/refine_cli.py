@@ -21,6 +21,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import re
 import shutil
 import sys
 from datetime import UTC, datetime
@@ -362,13 +363,19 @@ def run(a: argparse.Namespace) -> int:
         raise ValueError(str(e)) from None
 
 
+def terminal_text(doc: str) -> str:
+    """A docstring as a terminal shows it: reStructuredText's roles (``:mod:`x```) and literals
+    (````x````) as their plain text."""
+    return re.sub(r"``([^`]+)``", r"\1", re.sub(r":[a-z]+:`~?([^`]+)`", r"\1", doc))
+
+
 def add_parser(sub: Any) -> argparse.ArgumentParser:
     """The ``refine`` verb and its actions, on the ``morphlearn`` parser's subparsers ``sub``."""
     p = sub.add_parser(
         "refine",
         help="read, check or export a refine folder (one design, exhaustive weights): "
         "status, assemble, export, adaptive, survey-check, seed, seed-cache",
-        description=__doc__,
+        description=terminal_text(__doc__ or ""),
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
     acts = p.add_subparsers(dest="action", required=True, metavar="ACTION", help="what to do with the folder")

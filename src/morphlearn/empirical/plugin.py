@@ -22,7 +22,6 @@ class Pybullet(Physics):
     engine = "pybullet"
     libraries = ("pybullet",)
     env_file = "envs/empirical.yaml"
-    figure_body = True
     resumes_inside_design = True
     robots = ("project", "authors")
 

@@ -97,6 +97,20 @@ def design_text(row: pd.Series) -> str:
     return design_label(*row_design(row))
 
 
+def paper_design_note(res: ModelResults, design: Any, paper: Any) -> str:
+    """A sentence for a figure that draws ``design`` where the paper drew ``paper``: "" when they are
+    the same design, else the paper's and where ``res`` ranks it by M_L (one sentence, not a second
+    parenthesis beside the design's own coordinates)."""
+    if tuple(design) == tuple(paper):
+        return ""
+    from morphlearn import metrics
+
+    row = res.row(*paper)
+    k = None if row is None else metrics.rank_of(res.table, row, "M_L")
+    rank = "" if k is None else f"; this run ranks it {k}{_ordinal(k)} by M_L"
+    return f" The paper's design is {design_label(*paper)}{rank}."
+
+
 def metric_line(row: pd.Series, n_controllers: int, sep: str = ", ") -> str:
     """``M_L = ... (k of n controllers), M_CF = ...`` of a metrics-table row."""
     return f"M_L = {row.M_L:.4g} ({int(row.generalists)} of {n_controllers} controllers){sep}M_CF = {row.M_CF:.4g}"

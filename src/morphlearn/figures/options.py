@@ -49,6 +49,19 @@ def figures(s: Settings) -> list[str]:
     return [f for f, spec in FIGURE_SPECS.items() if met(spec.needs)]
 
 
+def figure_robot(s: Settings) -> dict[str, Any]:
+    """What Fig. 1C draws: the registry's ``figure_body`` model's engine, robot and body."""
+    name = models.figure_body()
+    model, sec = models.get(name), s.models[name]
+    return {
+        "engine": getattr(model, "engine_label", "") or getattr(model, "engine", name),
+        "robot": sec.robot,
+        "robot_label": model.robot_label({"robot": sec.robot}),  # type: ignore[attr-defined]
+        "body": sec.params.to_dict(),
+        "morphology": sec.morphology,
+    }
+
+
 def trajectory_settings(s: Settings) -> dict[str, float]:
     """What a reference trajectory for a figure needs (figures.data.TheorySettings fields)."""
     p = s.models[models.REFERENCE].params
@@ -57,7 +70,10 @@ def trajectory_settings(s: Settings) -> dict[str, float]:
 
 #: Figure options computed from the settings rather than read from its ``figures`` section.
 DERIVED_FIGURE_OPTIONS: dict[str, Callable[[Settings], Any]] = {
-    "morphology": lambda s: s.models[models.figure_body()].params.to_dict(),  # Fig. 1C: the physics body
+    # the reference engine's body (the disagreement figure: the body both engines simulated); None
+    # when it is off (its body not read; that figure is then not drawn)
+    "morphology": lambda s: None if (p := s.models[models.reference_physics()].params) is None else p.to_dict(),
+    "figure_robot": figure_robot,  # Fig. 1C
     "trajectory_settings": trajectory_settings,
     "top": lambda s: s.analysis.top,  # the survey figure's sensor maps: the summary's top designs
     "coopt_sigma": lambda s: s.coopt.sigmas[0],  # the coopt figure's evolution strategies: the first step

@@ -55,7 +55,7 @@ class Figure:
 
 
 FIGURES: dict[str, Figure] = {
-    "fig1": Figure(reads=(), options=("morphology",)),
+    "fig1": Figure(reads=(), options=("figure_robot",)),
     "fig2": Figure(options=("fig2_design", "fig2_envs")),
     "fig3": Figure(reads=("theory", PHYSICS), survey=True),
     "fig4": Figure(options=("trajectory_settings", "near_distance")),

@@ -312,6 +312,9 @@ def evaluate_designs(
     for a in range(0, len(coords), per):
         c = coords[a : a + per]
         nd = len(c)
+        # the shard log's progress line (one batch is the unit here, not an episode)
+        batch = f"one GPU batch of up to {4 * nd * m * m} episodes"
+        print(f"designs {a + 1}-{a + nd}/{len(coords)}: started, {batch}", flush=True)
         first = np.full((nd * 4, m, m), np.nan)
         dist = np.full((nd * 4, m, m), np.nan)
         status = np.full((nd * 4, m, m), STATUS_OK, dtype=np.int8)

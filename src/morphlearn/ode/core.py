@@ -9,7 +9,6 @@ from __future__ import annotations
 
 import sys
 from collections import Counter
-from dataclasses import dataclass
 from types import ModuleType
 from typing import Any
 
@@ -18,6 +17,7 @@ import numpy as np
 from morphlearn.errors import EngineError
 from morphlearn.grid import light_positions
 from morphlearn.physics.authors import success_radius
+from morphlearn.physics.batch import Episodes, check_inputs
 from morphlearn.physics.params import EmpiricalParams
 
 INSTALL_HINT = (
@@ -76,27 +76,6 @@ def params_tuple(p: EmpiricalParams) -> tuple[Any, ...]:
     )
 
 
-@dataclass(frozen=True)
-class Episodes:
-    """Outcomes of a batch, arrays of shape (n,)."""
-
-    first_step: np.ndarray  # first step with the centre within the success radius (-1: none)
-    min_dist: np.ndarray  # closest centre-to-light distance up to success (or the horizon)
-    steps: np.ndarray  # steps simulated
-    finite: np.ndarray  # False where the state became NaN/inf (stopped there)
-
-    @property
-    def success(self) -> np.ndarray:
-        return self.first_step >= 0
-
-
-def _points(name: str, v: Any, n: int) -> np.ndarray:
-    a = np.broadcast_to(np.asarray(v, dtype=np.float64), (n, 2))
-    if not np.isfinite(a).all() or np.abs(a).max(initial=0.0) > 0.5:
-        raise ValueError(f"{name} = {np.asarray(v).tolist()!r} is off the body; allowed: finite x, y in [-0.5, 0.5]")
-    return a
-
-
 def run(
     p: EmpiricalParams,
     l1: Any,
@@ -113,17 +92,8 @@ def run(
     episode ends at its first success (exact: nothing after it is read). ``path``: also the chassis
     (x, y) read at each step, (n, steps, 2), NaN after the episode stopped. ``timing``: a dict
     that receives the CPU seconds spent in dSpaceCollide and dWorldStep (benchmarks)."""
-    w = np.ascontiguousarray(np.atleast_2d(np.asarray(w, dtype=np.float64)))
+    w, env, sensors = check_inputs(l1, l2, w, env)
     n = len(w)
-    if w.shape != (n, 2):
-        raise ValueError(f"weights must have shape (n, 2); got {w.shape}")
-    if not np.isfinite(w).all() or np.abs(w).max(initial=0.0) > 1.0:
-        bad = w[~(np.isfinite(w) & (np.abs(w) <= 1.0))][0]
-        raise ValueError(f"weight {float(bad)!r} is invalid; allowed: finite values in [-1, 1]")
-    env = np.broadcast_to(np.asarray(env, dtype=np.int64), (n,))
-    if np.any((env < 0) | (env > 3)):
-        raise ValueError(f"env {sorted(set(env.tolist()) - {0, 1, 2, 3})} invalid; allowed: 0..3")
-    sensors = np.ascontiguousarray(np.concatenate([_points("l1", l1, n), _points("l2", l2, n)], axis=1))
     lights = np.ascontiguousarray(light_positions(p.light_distance)[env])
     first = np.empty(n, np.int64)
     dmin = np.empty(n, np.float64)

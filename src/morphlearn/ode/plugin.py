@@ -27,6 +27,7 @@ class Ode(Physics):
     env_file = "envs/empirical.yaml"
     robots = ("authors",)
     paper_engine = True
+    figure_body = True  # Fig. 1C draws the robot the headline numbers use: the authors', in ODE
     resumes_inside_design = True  # ~30 core-minutes a design at 121 x 121: resume inside it
     levers_doc = "docs/ode.md"
 

@@ -43,6 +43,8 @@ DEFAULT_MORPHOLOGY = "config/empirical_morphology.yaml"
 #: names none: the project's own body (re-optimised for pybullet, docs/empirical.md) and the paper
 #: authors' robot (docs/ode.md; in engines other than ODE, docs/authors_robot.md).
 ROBOT_BODIES = {"project": DEFAULT_MORPHOLOGY, "authors": "config/authors_body.yaml"}
+#: The robots as prose names them (tables, captions).
+ROBOT_LABELS = {"project": "the project's own body", "authors": "the authors' robot"}
 
 
 def other_robots_body(robot: str, morphology: str | Path) -> str | None:
@@ -91,7 +93,8 @@ class Physics(Model):
     engine: ClassVar[str]
     #: The engine as prose names it (tables, docs).
     engine_label: ClassVar[str] = ""
-    #: Fig. 1C draws this engine's body (read even when the model is off, if figures are drawn).
+    #: Fig. 1C draws this engine's robot and body, the one the headline numbers use (read even when
+    #: the model is off, if figures are drawn).
     figure_body: ClassVar[bool] = False
     #: The engine the paper's physics ran in (ODE): drawn and answered first where enabled.
     paper_engine: ClassVar[bool] = False
@@ -105,6 +108,30 @@ class Physics(Model):
     robots: ClassVar[tuple[str, ...]] = ("project",)
     #: Where the measured miss rate of its adaptive weight grid is documented (captions).
     levers_doc: ClassVar[str] = "docs/empirical_levers.md"
+
+    # -- what its results are ------------------------------------------------------------------------
+    def robot_of(self, science: Mapping[str, Any]) -> str:
+        """The robot results made with ``science`` modelled (a key of ROBOT_BODIES; a record names
+        it only when not the engine's default)."""
+        return str(science.get("robot") or self.robots[0])
+
+    def robot_label(self, science: Mapping[str, Any]) -> str:
+        """The robot results made with ``science`` modelled, as prose names it."""
+        robot = self.robot_of(science)
+        return ROBOT_LABELS.get(robot, robot)
+
+    def not_the_paper(self, science: Mapping[str, Any]) -> str:
+        """The paper's physics is the authors' robot in its engine (ODE, ``paper_engine``): results of
+        another robot or engine answer other questions than its claims."""
+        robot = self.robot_of(science)
+        if self.paper_engine and robot == "authors":
+            return ""
+        what = [] if self.paper_engine else ["another engine"]
+        what += [] if robot == "authors" else ["another robot"]
+        return (
+            f"{self.engine_label or self.engine} with {self.robot_label(science)}: {' and '.join(what)} than "
+            "the paper's (the authors' robot in the paper's engine), so not a verdict on its claim"
+        )
 
     # -- settings ----------------------------------------------------------------------------------
     def parse(self, sec: Mapping[str, Any], shared: Shared) -> PhysicsSettings:
@@ -353,7 +380,9 @@ class Physics(Model):
             folder = design_cache.cache_dir(s.results_dir, self.name, self.science(s))
         out = []
         for i, d in enumerate(tqdm(designs, unit="design", mininterval=1.0)):
-            log = EpisodeProgress(f"design {int(d)} ({i + 1}/{len(designs)})")
+            label = f"design {i + 1}/{len(designs)} (index {int(d)})"
+            print(f"{label}: started", flush=True)  # the shard log is never silent for a whole design
+            log = EpisodeProgress(label, at_most=e.options.adaptive_weights)
             kw = {"partial": design_cache.partial_path(folder, int(d))} if folder else {}
             out.append(evaluate_design(*self.sensors(s, int(d)), w, e.params, progress=log, options=e.options, **kw))
             if done:

@@ -34,14 +34,44 @@ def _weight_axes(ax: Axes) -> None:
     ax.set_aspect("equal")
 
 
+#: At most this many generalists in a panel are each ringed by a marker: one cell of a 121 x 121
+#: grid is under a point at print size, and "generalists in cyan" must show them (Fig. 6 D: the
+#: canonical design's one generalist in physics, at (1, 1) in a corner).
+FEW_GENERALISTS = 20
+
+
+def mark_generalists(ax: Axes, overlap: np.ndarray, weights: np.ndarray) -> int:
+    """Ring each generalist (O = 4) when there are at most :data:`FEW_GENERALISTS`; returns how
+    many were ringed (0 when there are more: they show as cyan areas)."""
+    i1, i2 = np.nonzero(np.asarray(overlap) == 4)
+    if not 0 < len(i1) <= FEW_GENERALISTS:
+        return 0
+    w = np.asarray(weights, dtype=np.float64)
+    ax.plot(
+        w[i1],
+        w[i2],
+        ls="",
+        marker="o",
+        ms=9,
+        mfc=OVERLAP_COLORS[4],
+        mec="white",
+        mew=1.4,
+        clip_on=False,  # a generalist in a corner (w = (1, 1)) is drawn whole
+        zorder=5,
+    )
+    return len(i1)
+
+
 def overlap_image(ax: Axes, overlap: np.ndarray, weights: np.ndarray, title: str) -> AxesImage:
-    """The overlap matrix O (m, m) indexed [i_w1, i_w2]."""
+    """The overlap matrix O (m, m) indexed [i_w1, i_w2]; a few generalists each ringed
+    (:func:`mark_generalists`)."""
     cmap, norm = overlap_cmap()
     im = ax.imshow(
         np.asarray(overlap).T, origin="lower", extent=_extent(weights), cmap=cmap, norm=norm, interpolation="nearest"
     )
+    ringed = mark_generalists(ax, overlap, weights)
     _weight_axes(ax)
-    ax.set_title(title)
+    ax.set_title(title, pad=11 if ringed else None)  # clear of a ring on the top edge
     return im
 
 

@@ -18,6 +18,31 @@ from morphlearn.grid import ENV_ANGLES_DEG
 from morphlearn.theory.reference import ReferenceTrajectory
 
 ENV_COLORS = ("#1f77b4", "#2ca02c", "#d62728", "#9467bd")
+#: Dots every this many time units along each path up to its first success: controllers whose
+#: paths look alike in space (Fig. 5) differ in how fast they run them.
+TIME_DOTS = 50.0
+
+
+def time_dots(tr: ReferenceTrajectory, every: float = TIME_DOTS) -> np.ndarray:
+    """Positions (k, 2) at t = every, 2 every, ... up to the first success (to the horizon if
+    none): how fast a path is run."""
+    end = tr.first_time if math.isfinite(tr.first_time) else float(tr.t[-1])
+    ts = np.arange(every, end, every)
+    return np.column_stack([np.interp(ts, tr.t, tr.path[:, 0]), np.interp(ts, tr.t, tr.path[:, 1])])
+
+
+def first_times(trs: Sequence[ReferenceTrajectory]) -> str:
+    """The first-success times of the four environments, as a range ("t = 150-161"; "none")."""
+    ts = [t.first_time for t in trs if math.isfinite(t.first_time)]
+    if not ts:
+        return "no success"
+    lo, hi = min(ts), max(ts)
+    return f"t = {lo:.0f}" if round(lo) == round(hi) else f"t = {lo:.0f}-{hi:.0f}"
+
+
+def design_title(fig: Figure, model: str, which: str, design: data.Design) -> None:
+    """The figure's heading: the model and the design every panel draws."""
+    fig.suptitle(f"{model}, {which}: {data.design_label(*design)}", fontsize=12)
 
 
 def trajectory_panel(
@@ -34,6 +59,8 @@ def trajectory_panel(
     for k, (tr, ang) in enumerate(zip(trs, ENV_ANGLES_DEG, strict=True)):
         col = ENV_COLORS[k]
         ax.plot(tr.path[:, 0], tr.path[:, 1], color=col, lw=1.1, label=f"light at {ang}°", zorder=2)
+        dots = time_dots(tr)
+        ax.plot(dots[:, 0], dots[:, 1], ls="", marker="o", ms=2.6, color=col, zorder=3)
         robot(
             ax,
             design[0],
@@ -69,6 +96,7 @@ def trajectory_legend(fig: Figure, near: float | None) -> None:
         Line2D([], [], color=c, lw=1.5, label=f"light at {a}°") for c, a in zip(ENV_COLORS, ENV_ANGLES_DEG, strict=True)
     ]
     h += [
+        Line2D([], [], ls="", marker="o", ms=2.6, color="0.2", label=f"every {TIME_DOTS:g} time units"),
         Line2D([], [], ls="", marker="o", mfc="white", mec="0.2", label="first success"),
         Line2D([], [], ls="", marker="x", color="0.2", label="position at T"),
         patches.Patch(facecolor=LIGHT_COLOR, edgecolor="#b38f00", label="light (success radius)"),
@@ -76,7 +104,8 @@ def trajectory_legend(fig: Figure, near: float | None) -> None:
     if near is not None:
         h.append(Line2D([], [], ls=":", color="0.5", label=f"'near' radius {near:g}"))
     # "outside": constrained layout keeps room for it below the panels.
-    fig.legend(handles=h, loc="outside lower center", ncol=4, frameon=False)
+    # two rows under three panels; three under two (a narrower figure must not clip the legend)
+    fig.legend(handles=h, loc="outside lower center", ncol=5 if fig.get_figwidth() >= 11 else 3, frameon=False)
 
 
 def controller_panels(
@@ -103,15 +132,17 @@ def controller_panels(
             settings.r,
             settings.radius,
             f"$(w_1, w_2) = ({c.w1:.3g}, {c.w2:.3g})$, {status}\n"
-            f"{target}{'stays near' if ok else 'does not stay near'}",
+            f"{target}{'stays near' if ok else 'does not stay near'}\nfirst success at {first_times(trs)}",
             near=near,
         )
         panel_letter(ax, letter)
         far_s = ", ".join("none" if not math.isfinite(x) else f"{x:.2f}" for x in far)
+        first_s = ", ".join("none" if not math.isfinite(t.first_time) else f"{t.first_time:.0f}" for t in trs)
         lines.append(
             f"- **{letter}:** {c.describe()}; on this grid it solves {c.overlap} of 4 environments "
-            f"(reference integration: {solved} of 4); largest distance from the light after the first "
-            f"success, per environment 45/135/225/315°: {far_s}; "
+            f"(reference integration: {solved} of 4); first success, per environment 45/135/225/315°, at "
+            f"t = {first_s}; largest distance from the light after the first "
+            f"success, per environment: {far_s}; "
             f"{'stays' if ok else 'does not stay'} near the source."
         )
     return lines

@@ -6,7 +6,6 @@ from __future__ import annotations
 from morphlearn import grid as gridmod
 from morphlearn.figures import data as fd
 from morphlearn.figures.caption import PAPER_WEIGHTS
-from morphlearn.figures.reproduction.claims import PAPER_ENGINE
 
 
 def is_survey(theory: fd.ModelResults | None, empirical: fd.ModelResults | None) -> bool:
@@ -20,10 +19,12 @@ def is_survey(theory: fd.ModelResults | None, empirical: fd.ModelResults | None)
 
 
 def physics_models() -> list[str]:
-    """The registered physics engines' model names, the reference engine (pybullet) first."""
+    """The registered physics engines' model names in registry order: the reference engine (the
+    workflow's ``empirical`` results, pybullet) first."""
     from morphlearn import models
 
-    return sorted(models.physics(), key=lambda n: not getattr(models.get(n), "figure_body", False))
+    physics = set(models.physics())
+    return [n for n in models.MODELS if n in physics]
 
 
 def at_paper_weights(res: fd.ModelResults | None) -> bool:
@@ -31,11 +32,24 @@ def at_paper_weights(res: fd.ModelResults | None) -> bool:
     return res is not None and len(res.weights) == PAPER_WEIGHTS
 
 
-def model_label(name: str) -> str:
-    """The model column: the theory, or a physics engine and whether it is the paper's."""
-    if name == "theory":
-        return "theory"
-    if name == "physics":
-        return "physics"
+def not_the_paper(res: fd.ModelResults) -> str:
+    """Why ``res`` cannot answer the paper's claims as it put them (its plug-in says: another robot
+    or engine), or "" when it can (the theory; the authors' robot in the paper's engine)."""
+    from morphlearn import models
+
+    return models.get(res.model).not_the_paper(res.science)
+
+
+def model_label(name: str, res: fd.ModelResults | None = None) -> str:
+    """The model column: the theory, or a physics engine and whether it is the paper's (and, for
+    results of another robot or engine, ``res``: whose body)."""
+    from morphlearn import models
+
+    if name in ("theory", "physics"):
+        return name
+    model = models.get(name)
     label = fd.engine_label(name)
-    return f"{label} (the paper's engine)" if name == PAPER_ENGINE else f"{label} (another engine)"
+    if res is not None and not_the_paper(res):
+        engine = "the paper's engine" if getattr(model, "paper_engine", False) else "another engine"
+        return f"{label} ({engine}, {model.robot_label(res.science)})"  # type: ignore[attr-defined]
+    return f"{label} (the paper's engine)" if getattr(model, "paper_engine", False) else f"{label} (another engine)"

@@ -16,7 +16,7 @@ from pathlib import Path
 import pandas as pd
 
 from morphlearn.figures.reproduction.claims import NOTE_SEP
-from morphlearn.figures.reproduction.table import PAPER
+from morphlearn.figures.reproduction.table import BEYOND_SECTION, OTHER_ROBOT, PAPER
 from morphlearn.figures.reproduction.verdict import DIFFERS, NOT_COMPARABLE, REPRODUCED, TOLERANCES, VERDICTS
 
 TITLE = "Reproduction table"
@@ -30,9 +30,15 @@ RULE = (
     "paper put it (not in this run; another weight grid or design grid than the paper's 121 x 121 weights and "
     "6561 designs; the best of all designs asked, a subset held; no value in the paper). The best of a subset of "
     "designs is a lower bound of the best of all: a subset's best count or metric already above the tolerance "
-    "differs. The paper's physics ran in ODE (the Open Dynamics Engine) with the authors' robot; pybullet and "
-    "MuJoCo rows are other engines with the project's own body."
+    "differs, and a design that a claim says exists, found among a subset, exists among all. A value the paper "
+    "states of its best design is judged at that design (as the authors' code names it); that the design is the "
+    "best of all is a claim of its own. Only the theory and the paper's robot in the paper's engine (the authors' "
+    "robot in ODE, the Open Dynamics Engine) are judged: results of another robot or engine (pybullet and MuJoCo "
+    "with the project's own body) answer another question, and are given beside the paper's claims without a "
+    "verdict, counted apart."
 )
+#: The heading of the paper's physics claims as another robot or engine answers them.
+OTHER_HEADING = "The paper's physics claims in another engine or body (no verdict)"
 
 
 def notes_of(table: pd.DataFrame, config_name: str) -> tuple[list[str], list[list[int]]]:
@@ -64,16 +70,23 @@ def counts(table: pd.DataFrame) -> dict[str, dict[str, int]]:
 
 
 def engine_sentence(table: pd.DataFrame) -> str:
-    """Say so when no results of the paper's engine (ODE) answer the physics claims."""
+    """The rows of another robot or engine, counted apart; and say so when no results of the paper's
+    robot in its engine answer the physics claims."""
     models = set(table[table.section == PAPER].model)
-    if any(m.endswith("(the paper's engine)") for m in models) or models <= {"theory"}:
-        return ""
-    if "physics" in models:  # the placeholder rows of a run without physics
-        return " No physics results are in this run."
-    return (
-        " No results of the paper's engine (ODE, with the authors' robot) are in this run: other engines "
-        "answer its physics claims."
-    )
+    other = table[table.section == OTHER_ROBOT]
+    said = ""
+    if len(other):
+        names = list(dict.fromkeys(m.split(" (")[0] for m in other.model))
+        said = (
+            f" Another {len(other)} rows give the paper's physics claims as {' and '.join(names)} "
+            f"{'answers' if len(names) == 1 else 'answer'} them, "
+            "another engine or body than the paper's: no verdict, in a table of their own."
+        )
+    if "physics" in models and not len(other):  # the placeholder rows of a run without physics
+        return said + " No physics results are in this run."
+    if "physics" in models:
+        return said + " No results of the paper's robot in its engine (the authors' robot in ODE) are in this run."
+    return said
 
 
 def _summary(c: dict[str, int]) -> str:
@@ -113,7 +126,11 @@ def to_markdown(table: pd.DataFrame, config_name: str = "", docs: str = DOCS) ->
             f"| {n} | {esc(r.quantity)} | {esc(r.paper)} | {esc(r.source)} | {esc(r.model)} | "
             f"{esc(r.ours)}{ref(i)} | {esc(_verdict_md(r, docs))} |"
         )
-    beyond = [(i, r) for i, r in enumerate(table.itertuples()) if r.section != PAPER]
+    other = [(i, r) for i, r in enumerate(table.itertuples()) if r.section == OTHER_ROBOT]
+    if other:
+        lines += ["", f"## {OTHER_HEADING}", "", "| claim | paper | model | ours |", "|---|---|---|---|"]
+        lines += [f"| {esc(r.quantity)} | {esc(r.paper)} | {esc(r.model)} | {esc(r.ours)}{ref(i)} |" for i, r in other]
+    beyond = [(i, r) for i, r in enumerate(table.itertuples()) if r.section == BEYOND_SECTION]
     if beyond:
         lines += ["", "## Beyond the paper", "", "| question | paper | ours |", "|---|---|---|"]
         lines += [f"| {esc(r.quantity)} | {esc(r.paper)} | {esc(r.ours)}{ref(i)} |" for i, r in beyond]
@@ -188,7 +205,18 @@ def to_html(table: pd.DataFrame, config_name: str = "", docs: str = DOCS) -> str
             f"<td>{badge(r.verdict)}{why}</td></tr>"
         )
     out.append("</tbody></table>")
-    beyond = [(i, r) for i, r in enumerate(table.itertuples()) if r.section != PAPER]
+    other = [(i, r) for i, r in enumerate(table.itertuples()) if r.section == OTHER_ROBOT]
+    if other:
+        out += [
+            f"<h2>{e(OTHER_HEADING)}</h2>",
+            "<table><thead><tr><th>claim</th><th>paper</th><th>model</th><th>ours</th></tr></thead><tbody>",
+            *(
+                f"<tr><td>{e(r.quantity)}</td><td>{e(r.paper)}</td><td>{e(r.model)}</td><td>{e(r.ours)}{ref(i)}</td></tr>"
+                for i, r in other
+            ),
+            "</tbody></table>",
+        ]
+    beyond = [(i, r) for i, r in enumerate(table.itertuples()) if r.section == BEYOND_SECTION]
     if beyond:
         out += [
             "<h2>Beyond the paper</h2>",

@@ -25,22 +25,19 @@ def engine_rows(
     ref = fd.engine_label(a)
     items = []
     ranked = len(both) >= compare.MIN_DESIGNS
-    if not ranked:  # one row says so, not four "undefined" rows
+    if not ranked:  # one row says so: no rho, no top-10 overlap ("2 of 2" tells nothing)
         items.append(
             (
                 "rho_not_computed",
-                f"{ref} vs {label}: Spearman rho of M_L and M_CF over designs",
-                f"not computed: the two hold {len(both)} designs in common, and a rank correlation needs "
+                f"{ref} vs {label}: Spearman rho and top-10 overlap of M_L and M_CF over designs",
+                f"not computed: the two hold {len(both)} designs in common, and a comparison of rankings needs "
                 f"at least {compare.MIN_DESIGNS} to tell agreement from chance",
             )
         )
-    for m in metrics.METRICS:
+    for m in metrics.METRICS if ranked else ():
         top = int(((both[f"rank_{m}_{a}"] <= 10) & (both[f"rank_{m}_{b}"] <= 10)).sum())
         # of at most the designs both hold (a few refined designs: not "of 10")
         top_row = (f"top10_{m}", f"{ref} vs {label}: designs in both top 10 by {m}", f"{top} of {min(10, len(both))}")
-        if not ranked:
-            items.append(top_row)
-            continue
         ag = compare.spearman_ci(both[f"{m}_{a}"], both[f"{m}_{b}"], m)
         nz = both[(both[f"{m}_{a}"] > 0) | (both[f"{m}_{b}"] > 0)]
         ag_nz = compare.spearman_ci(nz[f"{m}_{a}"], nz[f"{m}_{b}"], m)  # too few: "undefined"

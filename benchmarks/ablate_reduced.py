@@ -1,0 +1,182 @@
+"""What moves the optimum: the reduced model with one physical feature at a time taken toward the
+theory (issue 56, docs/reduced.md). Each variant is the reduced model's own step with one constant
+changed (never a fitted one); for each, over the 625 designs of the 5-point grid at 11 x 11 weights
+and 4 lights (302,500 episodes, every cell):
+
+- Spearman of the cells each design solves with ODE's (the committed results/authors-engines, the
+  authors' robot in ODE at the same cells) and with the theory's (the committed results/survey:
+  the theory at 41 x 41; the share of controllers a design solves does not depend on the grid's
+  density, its rank order is what is compared);
+- the share of cells with ODE's outcome;
+- the best design by cells solved and its rank in ODE and in the theory.
+
+The variants (toward the theory; the theory model: docs/model.md):
+
+- ``reduced``: the model as built (docs/reduced.md);
+- ``planar sensors``: the sensors at the light's height (2D distances, as the theory reads them);
+- ``no slip``: every contact's slip 1e-6 instead of 0.01. The authors' castor is a sphere on a
+  fixed hinge, not a swivel: without slip the robot cannot turn at all;
+- ``free castor``: the castor as an ideal swivel (no force from its contact), the wheels as built;
+- ``no wheel slip``: the wheels' contacts stiff (slip 1e-6), the castor as built;
+- ``rolling drive``: no wheel slip and a free castor: the theory's differential drive, with the
+  robot's inertia and motors;
+- ``no inertia``: every mass and inertia x 1e-6 (velocities follow the motors at once);
+- ``no torque cap``: the motors reach their targets at once (cap x 1e6);
+- ``linear motor law``: the target proportional to w s, without tanh or a speed limit (the theory's
+  law; emulated exactly to O(eps^2) by max_speed / eps and weights x eps, eps = 1e-4);
+- ``kinematic``: planar sensors, the rolling drive, no inertia, no torque cap and the linear law at
+  once (what is left of the theory's world: the body's size and success radius, the light's
+  distance and the horizon, as the authors' robot has them).
+
+Usage::
+
+    python benchmarks/ablate_reduced.py [--m 11] [--only reduced "planar sensors"]
+"""
+
+from __future__ import annotations
+
+import argparse
+import dataclasses
+import time
+from collections.abc import Callable
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+from scipy.stats import spearmanr
+
+from morphlearn.grid import DesignGrid, light_positions, weights
+from morphlearn.physics import authors
+from morphlearn.physics.params import EmpiricalParams, load_params
+from morphlearn.reduced import body as bodymod
+from morphlearn.reduced.cpu import run_batch
+
+ROOT = Path(__file__).resolve().parents[1]
+EPS = 1e-4
+
+
+@dataclasses.dataclass(frozen=True)
+class Variant:
+    name: str
+    params: Callable[[EmpiricalParams], EmpiricalParams] = lambda p: p
+    slip: float = authors.SLIP  # the wheels' contacts
+    castor_slip: float | None = authors.SLIP  # None: a free swivel (no force)
+    mass_scale: float = 1.0
+    planar: bool = False
+    linear: bool = False
+
+
+VARIANTS = [
+    Variant("reduced"),
+    Variant("planar sensors", planar=True),
+    Variant("no slip", slip=1e-6, castor_slip=1e-6),
+    Variant("free castor", castor_slip=None),
+    Variant("no wheel slip", slip=1e-6),
+    Variant("rolling drive", slip=1e-6, castor_slip=None),
+    Variant("no inertia", mass_scale=1e-6),
+    Variant("no torque cap", params=lambda p: p.replace(max_torque=p.max_torque * 1e6)),
+    Variant("linear motor law", linear=True),
+    Variant(
+        "kinematic",
+        params=lambda p: p.replace(max_torque=p.max_torque * 1e6),
+        slip=1e-6,
+        castor_slip=None,
+        mass_scale=1e-6,
+        planar=True,
+        linear=True,
+    ),
+]
+
+
+def constants(v: Variant, p: EmpiricalParams, l1: tuple[float, float], l2: tuple[float, float]) -> bodymod.Body:
+    """The step's constants of ``v`` (body.body's derivation with the variant's slip and masses)."""
+    m, s = bodymod.mass_matrix(p, l1, l2)
+    m, s = m * v.mass_scale, s * v.mass_scale
+    j = bodymod.contact_jacobian(p)
+    # rows: left wheel x, y, right wheel x, y, castor x, y; each a damper of 1 / slip
+    c = np.array([1 / v.slip] * 4 + ([0.0, 0.0] if v.castor_slip is None else [1 / v.castor_slip] * 2))
+    a = m + p.dt * j.T @ np.diag(c) @ j
+    ai = np.linalg.inv(a)
+    k = p.dt * ai[3:5, 3:5] + bodymod.ODE_CFM * np.eye(2)
+    k3 = (k[0, 0], 0.5 * (k[0, 1] + k[1, 0]), k[1, 1])
+    inv = np.linalg.inv(np.array([[k3[0], k3[1]], [k3[1], k3[2]]]))
+    dz = 0.0 if v.planar else authors.sensor_height(p) - authors.LIGHT_Z
+    return bodymod.Body(
+        g=np.ascontiguousarray((ai @ m).ravel()),
+        hm=np.ascontiguousarray((p.dt * ai[:, 3:5]).ravel()),
+        kk=np.array([*k3, inv[0, 0], inv[0, 1], inv[1, 1], 1.0 / k3[0], 1.0 / k3[2]]),
+        cen=np.ascontiguousarray(p.dt * ai[:, 0:2] @ s),
+        dz2=float(dz * dz),
+    )
+
+
+def solved_cells(v: Variant, base: EmpiricalParams, m: int) -> tuple[np.ndarray, np.ndarray, float]:
+    """(625,) cells each design solves, (625, 4, m, m) successes, CPU seconds."""
+    p = v.params(base)
+    g = DesignGrid(5)
+    w = weights(m)
+    e, i, j = np.meshgrid(np.arange(4), np.arange(m), np.arange(m), indexing="ij")
+    ww = np.ascontiguousarray(np.stack([w[i.ravel()], w[j.ravel()]], 1))
+    vmax = p.max_speed
+    if v.linear:
+        ww, vmax = ww * EPS, vmax / EPS
+    lights = np.ascontiguousarray(light_positions(p.light_distance)[e.ravel()])
+    n = len(ww)
+    succ = np.zeros((g.size, 4, m, m), bool)
+    t = time.process_time()
+    for d in range(g.size):
+        c = g.coords(d)
+        b = constants(v, p, (c[0], c[1]), (c[2], c[3]))
+        first, dmin, steps, ok = np.empty(n, np.int64), np.empty(n), np.empty(n, np.int64), np.empty(n, np.bool_)
+        run_batch(
+            b.g, b.hm, b.kk, b.cen, p.dt, p.steps, vmax, p.max_torque, authors.success_radius(p), b.dz2,
+            lights, np.ascontiguousarray(c, dtype=np.float64), ww, True, first, dmin, steps, ok,
+        )  # fmt: skip
+        succ[d] = (first >= 0).reshape(4, m, m)
+    return succ.sum(axis=(1, 2, 3)), succ, time.process_time() - t
+
+
+def ode_cells(m: int) -> tuple[np.ndarray, dict[int, np.ndarray]]:
+    """ODE's cells solved per design and its successes (results/authors-engines, all designs)."""
+    from morphlearn.agreement import Source, read, solved
+
+    ref = read(Source("results/authors-engines", "ode"))
+    if int(ref.science["weights"]) != m:
+        raise SystemExit(f"results/authors-engines is at {ref.science['weights']} weights; run with --m 11")
+    return solved(ref.table.set_index("design").sort_index()).to_numpy(), ref.success
+
+
+def _rank(x: np.ndarray, d: int) -> int:
+    """Design ``d``'s rank by ``x`` (ties share a rank)."""
+    return int((x > x[d]).sum()) + 1
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--m", type=int, default=11)
+    ap.add_argument("--only", nargs="+")
+    a = ap.parse_args()
+    base = load_params(ROOT / "config/authors_body.yaml")
+    ode, ode_succ = ode_cells(a.m)
+    th = pd.read_csv(ROOT / "results/survey/theory/metrics.csv").sort_values("design")
+    theory = th[[c for c in th.columns if c.startswith("n_")]].sum(axis=1).to_numpy()
+    print(f"625 designs x 4 lights x {a.m} x {a.m} weights; ODE: results/authors-engines; theory: results/survey")
+    print(
+        "| variant | rho with ODE | rho with theory | cells as ODE | best (cells) | rank in ODE | in theory | CPU s |"
+    )
+    print("|---|---|---|---|---|---|---|---|")
+    for v in VARIANTS:
+        if a.only and v.name not in a.only:
+            continue
+        cells, succ, cpu = solved_cells(v, base, a.m)
+        same = np.mean([(succ[d] == ode_succ[d]).mean() for d in range(len(cells))])
+        best = int(np.argmax(cells))
+        print(
+            f"| {v.name} | {spearmanr(cells, ode).statistic:.3f} | {spearmanr(cells, theory).statistic:.3f} | "
+            f"{100 * same:.2f} % | {best} ({cells[best]}) | {_rank(ode, best)} | {_rank(theory, best)} | {cpu:.0f} |",
+            flush=True,
+        )
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,29 @@
+"""The reduced model as a plug-in of the model registry: the paper authors' robot reduced to its
+planar motion (docs/reduced.md; :mod:`morphlearn.reduced.body` names every approximation), a
+physics model on the shared base (the same config keys, sweep, store, metrics and custody as the
+engines) that answers to ODE cell by cell at a few hundredths of a percent of its cost."""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from typing import TYPE_CHECKING
+
+from morphlearn.physics.model import Physics
+
+if TYPE_CHECKING:
+    from morphlearn.results import DesignResult
+
+
+class Reduced(Physics):
+    name = "reduced"
+    engine = "reduced"
+    engine_label = "reduced model"
+    env_file = "envs/empirical.yaml"
+    robots = ("authors",)
+    levers_doc = "docs/reduced.md"
+
+    @staticmethod
+    def design_evaluator() -> Callable[..., DesignResult]:
+        from morphlearn.reduced.episode import evaluate_design
+
+        return evaluate_design
