@@ -116,6 +116,18 @@ def facts() -> list[float]:
     # the engines against ODE (results/agreement)
     out += [*(100 * ag.cells_same), *ag.cells_compared, *ag.rho_solved, *(100 * ag.with_generalist)]
     out += [*(100 * ag.with_generalist_ode)]
+    # the reduced model of the authors' robot against ODE (results/reduced-*, docs/reduced.md)
+    for rel in ("results/reduced-agreement-paper/agreement.csv", "results/reduced-agreement-survey/agreement.csv"):
+        if (ROOT / rel).is_file():
+            ra = _table(rel)
+            out += [*(100 * ra.cells_same), *ra.cells_compared, *ra.rho_M_L, *ra.rho_M_CF, *ra.rho_solved]
+            out += [*(100 * ra.generalists_within_2), *ra.top10_M_L, *ra.top10_M_CF, *ra.canonical_rank_M_L]
+            out += [*(100 * ra.with_generalist), *ra.best_M_L_rank_in_ode]
+    for rel in ("results/reduced-ode-paper/reduced/metrics.csv", "results/reduced-survey/reduced/metrics.csv"):
+        if (ROOT / rel).is_file():
+            rt = _table(rel)
+            out += [*rt.generalists[rt.generalists > 0], rt.generalists.max(), (rt.generalists > 0).sum()]
+            out += [100 * (rt.generalists > 0).mean()]
     # the project's body: refine bundles, the MuJoCo 6561-design survey, pybullet against MuJoCo
     for t in (pb, mj):
         for d in (CANONICAL, BEST_OUR_BODY):
