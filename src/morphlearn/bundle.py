@@ -84,14 +84,18 @@ def drawn_designs(table: pd.DataFrame, n: int, top: int) -> np.ndarray:
     return np.array(sorted(d for d in want if d in present), dtype=np.int64)
 
 
+def command_of(configs: list[str]) -> str:
+    """The command a bundle's ``made_by`` records for a run of ``configs`` (check-bundle recomputes it)."""
+    extra = [c for c in configs if Path(c).name != "config.yaml"]  # config.yaml is always loaded
+    return "snakemake --cores 2" + (f" --configfile {' '.join(extra)}" if extra else "")
+
+
 def made_by(configs: list[str], results_dir: str) -> dict[str, Any]:
     """What made a run: its config files, results folder, the command, commit and version."""
-    extra = [c for c in configs if Path(c).name != "config.yaml"]  # config.yaml is always loaded
-    command = "snakemake --cores 2" + (f" --configfile {' '.join(extra)}" if extra else "")
     return {
         "configs": configs,
         "results_dir": results_dir,
-        "command": command,
+        "command": command_of(configs),
         "git_commit": provenance.git_commit(),
         "version": __version__,
     }
