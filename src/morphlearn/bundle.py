@@ -34,7 +34,7 @@ import yaml
 
 from morphlearn import __version__, bounded, metrics, models, provenance, store
 from morphlearn import grid as gridmod
-from morphlearn.config import bundle_holding, source_folder
+from morphlearn.config import bundle_holding, place_refusal
 
 #: Files copied from the run's results folder, when present (paths relative to it).
 #: The learner stage's small tables (its figure and reproduction rows read them).
@@ -152,7 +152,7 @@ def check_target(bundle_dir: str | Path, made_by: dict[str, Any]) -> None:
         f"made_by: configs {sorted(made_by['configs'])}, results_dir {made_by['results_dir']!r}); nothing was written"
     )
     held = bundle_holding(target)
-    why = source_folder(target)  # the same guard as results_dir's (config._check_results_dir)
+    why = place_refusal(target)  # the same guard as results_dir's (config.write_refusal); bundles: below
     if why:
         pass
     elif target.resolve() in (here, *here.parents) or target.resolve() in (results, *results.parents):
