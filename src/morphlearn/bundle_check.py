@@ -541,7 +541,7 @@ def subset_problems(out_dir: Path, manifest: dict[str, Any]) -> list[str]:
             out.append(f"{where}.designs {_few(designs)} are not the designs {model}/merged.zarr holds ({_few(held)})")
             continue
         if s.get("of") != len(table):
-            out.append(f"{where}.of = {shown(str(s.get('of')))}, but {model}/metrics.csv has {len(table)} rows")
+            out.append(f"{where}.of = {s.get('of')!r:.40}, but {model}/metrics.csv has {len(table)} rows")
         if s.get("simulated_by") != shards:
             out.append(f"{where}.simulated_by is not the shards' record in {model}/merged.zarr")
         if cfg is None or str(model).startswith(f"{store.SURVEY_DIR}/"):

@@ -249,18 +249,18 @@ def write_refusal(path: str | Path, *, rerender: bool = False, configs: Sequence
     for a ``rerender``: a render_only run that re-makes the bundle at ``path`` itself, with the
     config files ``configs`` its bundle.json records (None: not known yet, at config load; the
     workflow's start checks them, :func:`check_results_dir`)."""
-    why = place_refusal(path, rerender=rerender)
+    why = source_folder(path)
     if why:
         return why
     target = Path(path).resolve()
     held = bundle_holding(target)
     if held is None:
-        return None
+        return place_refusal(path, rerender=rerender)
     if not (rerender and held == target):
         where = "holds a results bundle" if held == target else f"is inside the results bundle {held}"
         return f"{where} (bundle.json), which it would write into"
     if configs is None:
-        return None
+        return place_refusal(path, rerender=rerender)
     try:
         recorded = bounded.json_file(held / "bundle.json").get("made_by", {}).get("configs")
     except (ValueError, AttributeError):
@@ -273,7 +273,7 @@ def write_refusal(path: str | Path, *, rerender: bool = False, configs: Sequence
             "would re-render the bundle with the wrong config"
             + (f" (give --configfile {' '.join(map(str, extra))}, as morphlearn render does)" if extra else "")
         )
-    return None
+    return place_refusal(path, rerender=rerender)
 
 
 def check_results_dir(rd: str, render_only: bool = False, configs: Sequence[str] | None = None) -> None:
