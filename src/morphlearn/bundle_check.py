@@ -86,17 +86,14 @@ def check(out_dir: str | Path, *, rows: bool = True, notes: list[str] | None = N
 
 
 def special_files(out_dir: Path, listed: dict[str, str]) -> list[str]:
-    """Every entry of the bundle that is neither a plain file nor a folder and is not listed: a
-    symbolic link of any kind (to a file, to a folder, to the bundle itself, dangling) or a pipe,
-    socket or device (issue 57: ``etcdir -> /etc``, ``loop -> .`` and ``ode2 -> ode`` passed). Links
-    are not followed."""
+    """Every symbolic link in the bundle, of any kind (to a file, to a folder, to the bundle itself,
+    dangling; listed or not: the bundle rule makes none), and every unlisted pipe, socket or device
+    (issue 57: ``etcdir -> /etc``, ``loop -> .`` and ``ode2 -> ode`` passed). Links are not followed."""
     out = []
     for top, dirs, files in os.walk(out_dir, followlinks=False):
         for name in sorted([*dirs, *files]):
             p = Path(top) / name
             rel = p.relative_to(out_dir).as_posix()
-            if rel in listed and not p.is_symlink():
-                continue
             try:
                 mode = p.lstat().st_mode
             except OSError:
@@ -106,9 +103,9 @@ def special_files(out_dir: Path, listed: dict[str, str]) -> list[str]:
                     target = os.readlink(p)
                 except OSError:
                     target = "?"
-                if rel not in listed:
-                    out.append(f"{p}: a symbolic link (to {shown(target)}), not listed in {MANIFEST}")
-            elif not (stat.S_ISREG(mode) or stat.S_ISDIR(mode)):
+                why = "listed in" if rel in listed else "not listed in"
+                out.append(f"{p}: a symbolic link (to {shown(target)}), {why} {MANIFEST} (a bundle holds no links)")
+            elif not (stat.S_ISREG(mode) or stat.S_ISDIR(mode)) and rel not in listed:
                 out.append(f"{p}: neither a file nor a folder (a pipe, socket or device), not listed in {MANIFEST}")
     return out
 
@@ -236,7 +233,7 @@ def meaning_problems(metrics_csv: Path, table: pd.DataFrame) -> list[str]:
             have = on[list(COORDS)].to_numpy(dtype=float)
         except (ValueError, TypeError):
             return [*out, f"coordinate columns {', '.join(COORDS)} that are not numbers"]
-        off = ~np.isclose(have, grid.coords(on.design.to_numpy()), atol=1e-9).all(axis=1)
+        off = ~np.isclose(have, grid.coords(on.design.to_numpy()), rtol=0, atol=1e-9).all(axis=1)
         if off.any():
             out.append(f"design {_few(on.design[off].tolist())}: coordinates are not its grid position's")
     return out + _store_disagrees(metrics_csv, table, ds)
@@ -497,6 +494,24 @@ def _configured(configs: list[str], commit: str | None) -> dict[str, Any] | None
     return cfg
 
 
+def _config_agrees(by: dict[str, Any], cfg: dict[str, Any], held: list[str]) -> list[str]:
+    """The recorded configs (as merged at the bundle's commit) give its results folder and enable
+    every model it holds (a section's ``enabled``, else the schema's default)."""
+    props = cfgmod.schema().get("properties", {})
+    out = []
+    rd = cfg.get("results_dir", props.get("results_dir", {}).get("default"))
+    if by.get("results_dir") != rd:
+        out.append(f"made_by.results_dir = {by.get('results_dir')!r:.80}, but its configs {by['configs']} give {rd!r}")
+    for model in (m for m in held if not m.startswith(f"{store.SURVEY_DIR}/")):
+        sec = cfg.get(model)
+        on = sec.get("enabled") if isinstance(sec, dict) and "enabled" in sec else None
+        if on is None:
+            on = props.get(model, {}).get("properties", {}).get("enabled", {}).get("default")
+        if on is False:
+            out.append(f"holds {model} results, but its configs {by['configs']} do not enable {model}")
+    return out
+
+
 def subset_problems(out_dir: Path, manifest: dict[str, Any]) -> list[str]:
     """Each model's subset in bundle.json is what its store holds and what its configs keep: the
     designs ``subsets.<model>.designs`` are those of ``<model>/merged.zarr``, and those the bundle
@@ -518,6 +533,8 @@ def subset_problems(out_dir: Path, manifest: dict[str, Any]) -> list[str]:
     stores |= {p.parent.relative_to(out_dir).as_posix() for p in out_dir.glob(f"{store.SURVEY_DIR}/*/merged.zarr")}
     for rel in sorted(stores - set(subsets)):
         out.append(f"{mpath}: {rel}/merged.zarr has no subset in bundle.json")
+    if cfg is not None:
+        out += [f"{mpath}: {p}" for p in _config_agrees(by, cfg, [str(m) for m in subsets])]
     for model, s in subsets.items():
         where = f"{mpath}: subsets.{model}"
         designs = _dict(s).get("designs")
