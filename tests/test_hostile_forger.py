@@ -454,3 +454,16 @@ def test_the_workflow_refuses_them_before_planning_a_job(tmp_path: Path, committ
     assert proc.returncode == 0 and "reproduction" in proc.stdout, proc.stderr[-2000:]
     assert _digests(wd / "results") == before
     _unchanged(committed)
+
+
+@pytest.mark.parametrize("out", ["src/morphlearn/b", "tools/b", ".git/b", "/etc/b", "results/link/b"])
+def test_the_other_bundle_writers_share_the_guard(project: Path, out: str, capsys: pytest.CaptureFixture) -> None:
+    """Any other writer: a refine bundle's --out and a scenario bundle's folder (one guard)."""
+    from morphlearn import refine_bundle, resumable, scenario_bundle
+
+    os.symlink("/etc", project / "results/link")
+    with pytest.raises(resumable.RefineError, match="nothing was written; allowed: a folder of your own"):
+        refine_bundle.check_target(Path(out), "empirical")
+    assert scenario_bundle.main(["build", "results/scenarios", out]) == 2
+    assert "nothing was written" in capsys.readouterr().out
+    assert not Path(out).exists()
