@@ -71,7 +71,9 @@ def test_check_notices_damage(smoke_bundle: Path, tmp_path: Path) -> None:
     assert f"{chunk}: checksum differs from bundle.json (changed or damaged)" in problems
     assert "summary.md: listed in bundle.json but missing" in problems
     assert "stray.csv: not listed in bundle.json" in problems
-    assert len(bundle_check.check(copy)) == 3
+    # and the damaged chunk read beside the table (issue 57: every chunk read, never skipped)
+    assert "theory/merged.zarr: first_time of design" in problems and "(damaged)" in problems
+    assert len(bundle_check.check(copy)) == 4
     assert cli.main(["check-bundle", str(copy)]) == 1
     assert cli.main(["check-bundle", str(smoke_bundle)]) == 0
     assert cli.main(["check-bundle", str(tmp_path / "nowhere")]) == 2

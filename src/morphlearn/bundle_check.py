@@ -274,7 +274,7 @@ def _store_disagrees(metrics_csv: Path, table: pd.DataFrame, ds: Any) -> list[st
     if missing:
         out.append(f"design {_few(missing)}: held in the merged store but has no row")
     if bad:
-        out.append(f"design {_few(bad)}: its row's counts ({', '.join(cols)}) differ from the merged store's arrays")
+        out.append(f"design {_few(bad)}: its row's counts differ from the merged store's arrays")
     return out
 
 
@@ -416,7 +416,14 @@ def command_problems(manifest: dict[str, Any], notes: list[str]) -> list[str]:
 
     by = manifest["made_by"]
     commit = by.get("git_commit") if isinstance(by.get("git_commit"), str) else None
+    from morphlearn.refine_bundle import TOOL
+
     out = []
+    tool = by.get("tool")
+    if tool is not None and tool != TOOL:
+        return [f"made_by.tool = {shown(str(tool))}; allowed: {TOOL!r} (a refine bundle) or none (the workflow's)"]
+    if tool and by.get("configs") not in (None, []):
+        return [f"made_by.configs = {shown(str(by.get('configs')))}; allowed: [] (a refine bundle reads no config)"]
     configs = by.get("configs")
     if configs is not None:
         if not isinstance(configs, list) or not all(isinstance(c, str) and CONFIG_NAME.fullmatch(c) for c in configs):
@@ -434,17 +441,18 @@ def command_problems(manifest: dict[str, Any], notes: list[str]) -> list[str]:
         except ValueError:
             words = []
         bad = next((w for w in words if not SAFE_WORD.fullmatch(w)), None)
-        if not words or bad is not None or words[0] != "snakemake":
+        head = ["python", *tool.split()] if tool else ["snakemake"]
+        if not words or bad is not None or words[: len(head)] != head:
             out.append(
-                f"{where}.command = {shown(cmd)}: not a snakemake command of plain words"
+                f"{where}.command = {shown(cmd)}: not a {' '.join(head)} command of plain words"
                 + (f" (holds {shown(bad)})" if bad else "")
-                + "; allowed: the snakemake command its configs give"
+                + f"; allowed: the {' '.join(head)} command {'that made it' if tool else 'its configs give'}"
             )
             continue
         given = _configfiles(words)
         named += given
         extra = [c for c in configs or [] if Path(c).name != "config.yaml"]
-        if where == "made_by" and configs is not None and cmd != command_of(configs):
+        if where == "made_by" and configs is not None and not tool and cmd != command_of(configs):
             out.append(f"made_by.command = {shown(cmd)}; its configs {configs} give {command_of(configs)!r}")
         elif where == "rendered_by" and configs is not None and (given != extra or "render_only=True" not in words):
             out.append(
@@ -527,7 +535,7 @@ def subset_problems(out_dir: Path, manifest: dict[str, Any]) -> list[str]:
         return [f"{mpath}: subsets is not an object of model -> designs"]
     by = manifest["made_by"]
     commit = by.get("git_commit") if isinstance(by.get("git_commit"), str) else None
-    cfg = _configured(by["configs"], commit) if isinstance(by.get("configs"), list) else None
+    cfg = _configured(by["configs"], commit) if isinstance(by.get("configs"), list) and by["configs"] else None
     out = []
     stores = {p.parent.relative_to(out_dir).as_posix() for p in out_dir.glob("*/merged.zarr")}
     stores |= {p.parent.relative_to(out_dir).as_posix() for p in out_dir.glob(f"{store.SURVEY_DIR}/*/merged.zarr")}
@@ -587,4 +595,6 @@ def manifest_problems(out_dir: Path, manifest: dict[str, Any], notes: list[str] 
     if not isinstance(manifest.get("made_by"), dict):
         return [f"{mpath}: no made_by record (the configs, command and commit that made it)"]
     out = [f"{mpath}: {p}" for p in commit_problems(manifest, notes) + command_problems(manifest, notes)]
+    if "git_commit" not in manifest["made_by"]:
+        out.append(f"{mpath}: made_by names no git_commit (the commit that made it)")
     return out + subset_problems(out_dir, manifest)
