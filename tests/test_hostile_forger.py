@@ -342,7 +342,7 @@ def project(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> Path:
         (".git/x", "has the hidden folder '.git' in it"),
         (".venv", "has the hidden folder '.venv' in it"),
         ("results/.x", "has the hidden folder '.x' in it"),
-        ("/etc/x", "is outside the project's results/ folder"),
+        ("/proc/morphlearn-x", "is outside the project's results/ folder"),  # not /etc: main wrote there
         ("elsewhere", "is outside the project's results/ folder"),
         ("results/../x", "is outside the project's results/ folder"),
         ("results/link/x", "is a symbolic link out of results/"),
@@ -353,7 +353,7 @@ def test_refine_export_writes_only_where_it_may(
 ) -> None:
     """morphlearn refine export results/refine/canonical_121 DEST: exited 0 and wrote into a
     committed bundle, src/, tools/ and .git/."""
-    os.symlink("/etc", project / "results/link")
+    os.symlink("/proc", project / "results/link")  # not /etc: main wrote through it (as root)
     before = _digests(project)
     rc = cli.main(["refine", "export", "results/refine/canonical_121", dest])
     err = capsys.readouterr().err
@@ -456,12 +456,12 @@ def test_the_workflow_refuses_them_before_planning_a_job(tmp_path: Path, committ
     _unchanged(committed)
 
 
-@pytest.mark.parametrize("out", ["src/morphlearn/b", "tools/b", ".git/b", "/etc/b", "results/link/b"])
+@pytest.mark.parametrize("out", ["src/morphlearn/b", "tools/b", ".git/b", "/proc/b", "results/link/b"])
 def test_the_other_bundle_writers_share_the_guard(project: Path, out: str, capsys: pytest.CaptureFixture) -> None:
     """Any other writer: a refine bundle's --out and a scenario bundle's folder (one guard)."""
     from morphlearn import refine_bundle, resumable, scenario_bundle
 
-    os.symlink("/etc", project / "results/link")
+    os.symlink("/proc", project / "results/link")
     with pytest.raises(resumable.RefineError, match="nothing was written; allowed: a folder of your own"):
         refine_bundle.check_target(Path(out), "empirical")
     assert scenario_bundle.main(["build", "results/scenarios", out]) == 2

@@ -342,8 +342,10 @@ def _controllers(metrics_csv: Path) -> int | None:
 # -- what bundle.json says about how the bundle was made (issue 57: a forged commit, command or
 # design subset passed) ---------------------------------------------------------------------------
 
-#: Where a recorded config file may be: the base config or a file of config/ (relative names).
-CONFIG_NAME = re.compile(r"config\.yaml|config/[\w.-]+\.ya?ml")
+#: What a recorded config file may be named: a relative path of plain words ending in .yaml or .yml
+#: (the project's own, config.yaml and config/*.yaml, must exist at the bundle's commit; a user's
+#: own file elsewhere is read from the working tree where it is there, else a note says so).
+CONFIG_NAME = re.compile(r"(?!/)(?!-)(?!.*(^|/)\.\.(/|$))[\w./-]+\.ya?ml")
 #: What a recorded command's words may hold: no shell syntax (``;``, ``|``, ``$``, quotes, ...).
 SAFE_WORD = re.compile(r"[\w./=:,+@-]+")
 #: The project root of this code (commits and config files are looked up in its repository).
@@ -361,8 +363,10 @@ def _commits(manifest: dict[str, Any]) -> dict[Any, str]:
     sims += [(f"simulated_by.{n}", s) for n, s in _dict(manifest.get("simulated_by")).items()]
     for where, by in sims:
         for part in ("git_commits", "design_commits"):
-            for c in _dict(_dict(by).get(part)):
-                named.setdefault(c, f"{where}.{part}")
+            for key in _dict(_dict(by).get(part)):
+                # a refine bundle's shard names the commits of its rows joined (refine_bundle.build)
+                for c in key.split(" + ") if isinstance(key, str) else [key]:
+                    named.setdefault(c, f"{where}.{part}")
     return named
 
 
@@ -427,7 +431,8 @@ def command_problems(manifest: dict[str, Any], notes: list[str]) -> list[str]:
     configs = by.get("configs")
     if configs is not None:
         if not isinstance(configs, list) or not all(isinstance(c, str) and CONFIG_NAME.fullmatch(c) for c in configs):
-            return [f"made_by.configs = {shown(str(configs))}; allowed: a list of config.yaml and config/NAME.yaml"]
+            allowed = "a list of relative YAML file names (config.yaml, config/NAME.yaml)"
+            return [f"made_by.configs = {shown(str(configs))}; allowed: {allowed}"]
     named = list(configs or [])
     rendered = _dict(manifest.get("rendered_by")).get("command")
     for where, cmd in (("made_by", by.get("command")), ("rendered_by", rendered)):
@@ -461,14 +466,20 @@ def command_problems(manifest: dict[str, Any], notes: list[str]) -> list[str]:
     missing, from_tree = [], False
     for name in dict.fromkeys(named):
         if not CONFIG_NAME.fullmatch(name):
-            out.append(f"a command names the config file {shown(name)}; allowed: config.yaml or config/NAME.yaml")
+            out.append(f"a command names the config file {shown(name)}; allowed: a relative YAML file name")
             continue
         text, at_commit = _config_text(name, commit)
         from_tree |= text is not None and not at_commit
         if text is None:
             missing.append(name)
-    if missing:
-        out.append(f"names the config file {missing[0]}, which this repository does not hold (at {commit or 'HEAD'})")
+    own = [m for m in missing if m == "config.yaml" or m.startswith("config/")]
+    if own:
+        out.append(f"names the config file {own[0]}, which this repository does not hold (at {commit or 'HEAD'})")
+    elif missing:
+        notes.append(
+            f"cannot tell what its config file {missing[0]} held (not in this repository: a config of your own?): "
+            "its subsets and results folder are not checked against its configs"
+        )
     if from_tree:
         notes.append("its config files were read from the working tree (its commit is not in this clone)")
     return out
