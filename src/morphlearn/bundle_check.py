@@ -352,6 +352,12 @@ SAFE_WORD = re.compile(r"[\w./=:,+@-]+")
 ROOT = Path(__file__).resolve().parents[2]
 
 
+def project() -> Path:
+    """Where commits and config files are looked up: this code's checkout, or (an installed
+    package, no config.yaml beside it) the folder the command runs in."""
+    return ROOT if (ROOT / "config.yaml").is_file() else Path.cwd()
+
+
 def _commits(manifest: dict[str, Any]) -> dict[Any, str]:
     """Every commit bundle.json names -> where (made_by, rendered_by, each subset's and scenario's
     shards and designs)."""
@@ -383,11 +389,11 @@ def commit_problems(manifest: dict[str, Any], notes: list[str]) -> list[str]:
         if not isinstance(c, str) or not re.fullmatch(r"[0-9a-f]{40}", c):
             out.append(f"{where} names {shown(str(c))}, not a commit (allowed: a 40-digit git hash)")
             continue
-        known = provenance.in_history(c, cwd=ROOT)
+        known = provenance.in_history(c, cwd=project())
         if known is None:
             unsure.append(c)
         elif not known:
-            if provenance.is_shallow(cwd=ROOT):
+            if provenance.is_shallow(cwd=project()):
                 unsure.append(c)
             else:
                 out.append(f"{where} names commit {c}, which is not in this repository's history (HEAD or an ancestor)")
@@ -402,10 +408,10 @@ def commit_problems(manifest: dict[str, Any], notes: list[str]) -> list[str]:
 def _config_text(name: str, commit: str | None) -> tuple[str | None, bool]:
     """A recorded config file's text at the bundle's commit, else the working tree's; whether it
     came from the commit."""
-    text = provenance.file_at(commit, name, cwd=ROOT) if commit else None
+    text = provenance.file_at(commit, name, cwd=project()) if commit else None
     if text is not None:
         return text, True
-    p = ROOT / name
+    p = project() / name
     try:
         return (bounded.read_bytes(p).decode("utf-8") if p.is_file() else None), False
     except (ValueError, OSError, UnicodeDecodeError):
