@@ -13,6 +13,21 @@ from pathlib import Path
 import pytest
 
 ROOT = Path(__file__).resolve().parents[1]
+
+
+def _head() -> str:
+    try:
+        out = subprocess.run(["git", "rev-parse", "HEAD"], cwd=ROOT, capture_output=True, text=True, timeout=10)
+    except (OSError, subprocess.SubprocessError):
+        return "test"
+    return out.stdout.strip() if out.returncode == 0 else "test"
+
+
+#: The commit the tests' runs and records name (MORPHLEARN_GIT_COMMIT): this checkout's HEAD, so a
+#: bundle they make names a commit of this history, as check-bundle requires (issue 57); "test"
+#: where there is no git (check-bundle then says it cannot tell).
+TEST_COMMIT = os.environ.get("MORPHLEARN_GIT_COMMIT") or _head()
+os.environ["MORPHLEARN_GIT_COMMIT"] = TEST_COMMIT  # in-process records too (a dirty worktree: still HEAD)
 WORKFLOW_FILES = (
     "Snakefile",
     "config.yaml",
@@ -69,7 +84,7 @@ def written_results(workdir: Path) -> list[Path]:
 
 def snakemake(workdir: Path, *args: str, timeout: int = 900, check: bool = True) -> subprocess.CompletedProcess:
     exe = Path(sys.executable).with_name("snakemake")
-    env = dict(os.environ, MORPHLEARN_GIT_COMMIT="test")
+    env = dict(os.environ, MORPHLEARN_GIT_COMMIT=TEST_COMMIT)
     proc = subprocess.run([str(exe), *args], cwd=workdir, capture_output=True, text=True, timeout=timeout, env=env)
     if check and proc.returncode != 0:
         raise AssertionError(f"snakemake {' '.join(args)} failed:\n{proc.stdout[-3000:]}\n{proc.stderr[-3000:]}")

@@ -10,7 +10,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 import pytest
-from conftest import copy_workflow, job_stats, snakemake
+from conftest import TEST_COMMIT, copy_workflow, job_stats, snakemake
 
 from morphlearn import bundle, bundle_check, bundle_rerender, cli, metrics, resimulate, rules, store
 from morphlearn import grid as gridmod
@@ -39,7 +39,7 @@ def test_bundle_holds_what_the_figures_draw(smoke_bundle: Path, smoke_run: Path)
     table = pd.read_csv(smoke_bundle / "theory/metrics.csv")
     pd.testing.assert_frame_equal(table, pd.read_csv(smoke_run / "results/theory/metrics.csv"))
     held = manifest["subsets"]["theory"]["designs"]
-    assert manifest["subsets"]["theory"]["simulated_by"]["git_commits"] == {"test": 3}  # 3 shards
+    assert manifest["subsets"]["theory"]["simulated_by"]["git_commits"] == {TEST_COMMIT: 3}  # 3 shards
     g = gridmod.DesignGrid(3)
     top = {int(metrics.rank_designs(table, by).design.iloc[0]) for by in ("M_L", "M_CF")}
     want = {g.index_of(*gridmod.canonical_design())} | top
@@ -71,7 +71,9 @@ def test_check_notices_damage(smoke_bundle: Path, tmp_path: Path) -> None:
     assert f"{chunk}: checksum differs from bundle.json (changed or damaged)" in problems
     assert "summary.md: listed in bundle.json but missing" in problems
     assert "stray.csv: not listed in bundle.json" in problems
-    assert len(bundle_check.check(copy)) == 3
+    # and the damaged chunk read beside the table (issue 57: every chunk read, never skipped)
+    assert "theory/merged.zarr: first_time of design" in problems and "(damaged)" in problems
+    assert len(bundle_check.check(copy)) == 4
     assert cli.main(["check-bundle", str(copy)]) == 1
     assert cli.main(["check-bundle", str(smoke_bundle)]) == 0
     assert cli.main(["check-bundle", str(tmp_path / "nowhere")]) == 2

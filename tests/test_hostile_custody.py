@@ -20,7 +20,7 @@ from pathlib import Path
 
 import pandas as pd
 import pytest
-from conftest import ROOT, copy_paper_sources, snakemake
+from conftest import ROOT, TEST_COMMIT, copy_paper_sources, snakemake
 
 from morphlearn import bundle, bundle_check, cli, configure, metrics, provenance, resimulate, rules, store
 from morphlearn import config as config_mod
@@ -203,7 +203,7 @@ def test_caption_refuses_an_edited_record(run: Path) -> None:
     """Where the record is quoted (a caption's data paragraph), its seal is checked first."""
     r = run / "results"
     res = data.require_results(r, "theory")
-    assert "git commit test" in caption.provenance_md([res])
+    assert f"git commit {TEST_COMMIT}" in caption.provenance_md([res])
     side = r / "theory/metrics.provenance.json"
     keep = side.read_bytes()
     try:
@@ -447,7 +447,7 @@ _STAGE_CONFIGS = {
         "bundle_dir": "results/b",
     },
     "scen.yaml": {"scenario_file": "config/scenarios.yaml", "scenarios": "all"},
-    "from_bundle.yaml": {"results_dir": "fresh", "empirical": {"results_from": "results/survey"}},
+    "from_bundle.yaml": {"results_dir": "results/fresh", "empirical": {"results_from": "results/survey"}},
 }
 _FLAGS = """
 import json, sys
@@ -834,7 +834,8 @@ def test_a_physics_only_run_bundles(mujoco_results: Path, tmp_path: Path) -> Non
     from morphlearn import bundle
 
     out = tmp_path / "b"
-    manifest = bundle.build(mujoco_results, out, top=3, made_by={"configs": ["x.yaml"], "results_dir": "r"})
+    made = bundle.made_by(["config/survey9_mujoco.yaml", "config.yaml"], "results/survey9-mujoco-run")
+    manifest = bundle.build(mujoco_results, out, top=3, made_by=made)
     assert set(manifest["subsets"]) == {"mujoco"} and manifest["subsets"]["mujoco"]["designs"] == [51, 75]
     assert bundle_check.check(out) == []
     with pytest.raises(bundle.BundleError, match=r"no model's metrics\.csv"):

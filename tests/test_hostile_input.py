@@ -521,7 +521,7 @@ def test_results_dir_holding_a_bundle_is_not_advised_to_be_deleted(wf: Path) -> 
 def test_results_dir_with_a_space_and_quote_reaches_the_figure_commands_whole(wf: Path) -> None:
     """The figure rule's shell command, as Snakemake prints it (dry run), run with the two tools
     replaced by printf: the notebook's output folder arrives as one argument."""
-    rd = "res ults/it's"
+    rd = "results/res ults/it's"  # under results/: the write guard refuses a folder outside it (issue 57)
     (wf / "space.yaml").write_text(yaml.safe_dump({"results_dir": rd, "figures": {"enabled": True}}))
     proc = snakemake(wf, "-n", "-p", "--cores", "1", "--configfile", "small.yaml", "space.yaml")
     cmd = next(line for line in proc.stdout.splitlines() if "jupyter nbconvert" in line and "fig1" in line)
@@ -531,7 +531,7 @@ def test_results_dir_with_a_space_and_quote_reaches_the_figure_commands_whole(wf
     subprocess.run(["bash", "-c", cmd], cwd=wf, check=True)
     args = (wf / rd / "logs/figures/fig1.log").read_text().splitlines()
     assert args[args.index("--output-dir") + 1] == f"{rd}/figures", args
-    shutil.rmtree(wf / "res ults")
+    shutil.rmtree(wf / "results/res ults")
 
 
 # --- results_dir: never a committed bundle (but to re-render it) nor a project folder (issue 38) ---

@@ -4,12 +4,14 @@ is caught, and re-simulation agrees."""
 
 from __future__ import annotations
 
+import json
 import shutil
 from pathlib import Path
 
 import numpy as np
 import pandas as pd
 import pytest
+from conftest import TEST_COMMIT
 
 from morphlearn import bundle_check, configure, metrics, models, provenance, refine_bundle, store
 from morphlearn import config as cfgmod
@@ -36,7 +38,12 @@ def _folder(path: Path, design: tuple = canonical_design(), *, seed: int = 0, ro
     key = rz.open_folder(path, job, BODY)
     rng = np.random.default_rng(seed)
     horizon = job.params.horizon
-    for r in rz.row_order(job.m)[: job.m if rows is None else rows]:
+    done = rz.row_order(job.m)[: job.m if rows is None else rows]
+    # each row's commit, as the runner logs it: a bundle names the commits that computed its rows,
+    # and check-bundle requires commits of this history (issue 57)
+    log = {"commit": TEST_COMMIT, "episodes": 4 * job.m, "wall_s": 1.0, "cpu_s": 1.0}
+    (path / "progress.jsonl").write_text("".join(json.dumps({"row": int(r), **log}) + "\n" for r in done))
+    for r in done:
         ok = rng.random((4, job.m)) < 0.85
         rz.write_chunk(
             path,
@@ -160,8 +167,10 @@ def test_damage_in_the_bundle_is_caught(tmp_path: Path) -> None:
     data[len(data) // 2] ^= 0x01
     chunk.write_bytes(bytes(data))
     problems = bundle_check.check(out)
-    assert len(problems) == 1 and "first_time/c/0/0/0/0: checksum differs" in problems[0]
-    with pytest.raises(BundleError, match="1 problem"):
+    assert "first_time/c/0/0/0/0: checksum differs" in problems[0]
+    # and the damaged chunk read beside the table (issue 57: every chunk read, never skipped)
+    assert len(problems) == 2 and "first_time of design" in problems[1] and "(damaged)" in problems[1], problems
+    with pytest.raises(BundleError, match="2 problem"):
         bundle_check.extract_model(
             out, "empirical", {k: tmp_path / "run" / k for k in ("metrics", "provenance", "merged")}
         )

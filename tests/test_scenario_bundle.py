@@ -9,6 +9,7 @@ from pathlib import Path
 
 import pandas as pd
 import pytest
+from conftest import TEST_COMMIT
 
 from morphlearn import bundle, bundle_check, scenario_bundle
 
@@ -56,7 +57,7 @@ def test_build_round_trip_and_refusal(tmp_path: Path, monkeypatch: pytest.Monkey
         return 0.0
 
     monkeypatch.setattr(scenario_bundle, "_render", copy_figure)
-    made_by = {"results_dir": "x", "command": scenario_bundle.COMMAND, "git_commit": "test", "version": "0"}
+    made_by = {"results_dir": "x", "command": scenario_bundle.COMMAND, "git_commit": TEST_COMMIT, "version": "0"}
     out = tmp_path / "results" / "scenario-set"
     m = scenario_bundle.build(BUNDLE, out, made_by)
     assert bundle_check.check(out) == []

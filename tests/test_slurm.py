@@ -28,6 +28,7 @@ from pathlib import Path
 
 import pytest
 import yaml
+from conftest import TEST_COMMIT
 
 pytestmark = pytest.mark.slurm
 
@@ -233,9 +234,9 @@ def smoke_runs(slurm_cluster, smoke_run, tmp_path_factory, request):
     so only the targets that shards feed are asked of SLURM."""
     _need_workflow(SMOKE)
     on_slurm = copy_workflow(tmp_path_factory.mktemp("smoke-slurm"))
-    # Results record the git commit; the shared local run pins it to "test" (conftest), so this
-    # run does too (it travels to the SLURM jobs via sbatch --export=ALL).
-    env = {"MORPHLEARN_GIT_COMMIT": "test"}
+    # Results record the git commit; the shared local run pins it to TEST_COMMIT (conftest), so
+    # this run does too (it travels to the SLURM jobs via sbatch --export=ALL).
+    env = {"MORPHLEARN_GIT_COMMIT": TEST_COMMIT}
     slurm_run = snakemake(on_slurm, *MERGED, "--profile", str(PROFILE_TEST), "--configfile", SMOKE, env=env)
     _require_ok(slurm_run, "SLURM smoke run")
     _say(request, f"smoke run's merged results through SLURM: {slurm_run.seconds:.1f} s")

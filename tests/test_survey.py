@@ -96,7 +96,7 @@ def test_results_from_reads_the_bundle(survey_run: Path, tmp_path: Path) -> None
     assert rows.key.tolist().count("survey_rho_M_L") == 1  # once: the survey's rows, not again the run's own
     # the bundle of such a run holds the survey folder, checksummed
     out = wd / "results" / "reader-bundle"
-    manifest = bundle.build(r, out, top=3, made_by={"configs": ["reader.yaml"], "results_dir": "results/reader"})
+    manifest = bundle.build(r, out, top=3, made_by=bundle.made_by(["reader.yaml", "config.yaml"], "results/reader"))
     assert "survey/empirical/metrics.csv" in manifest["files"] and "survey/empirical" in manifest["subsets"]
     assert bundle_check.check(out) == []
     # a flipped byte in the bundle's metrics: the copy is refused, by file name

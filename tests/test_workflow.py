@@ -7,7 +7,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 import yaml
-from conftest import copy_workflow, snakemake
+from conftest import TEST_COMMIT, copy_workflow, snakemake
 
 from morphlearn import grid, store
 from morphlearn.provenance import sha256_file
@@ -26,7 +26,7 @@ def test_smoke_outputs(smoke_run: Path) -> None:
         assert (r / f"logs/theory/{rule}.log").exists()
         assert (r / f"benchmarks/theory/{rule}.tsv").exists()
     prov = (r / "theory/metrics.provenance.json").read_text()
-    assert '"git_commit": "test"' in prov and "merged.zarr" in prov
+    assert f'"git_commit": "{TEST_COMMIT}"' in prov and "merged.zarr" in prov
 
 
 def test_mirror_derived_equals_directly_evaluated(smoke_run: Path, tmp_path: Path) -> None:

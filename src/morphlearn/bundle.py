@@ -34,7 +34,7 @@ import yaml
 
 from morphlearn import __version__, bounded, metrics, models, provenance, store
 from morphlearn import grid as gridmod
-from morphlearn.config import bundle_holding, source_folder
+from morphlearn.config import bundle_holding, place_refusal
 
 #: Files copied from the run's results folder, when present (paths relative to it).
 #: The learner stage's small tables (its figure and reproduction rows read them).
@@ -84,14 +84,18 @@ def drawn_designs(table: pd.DataFrame, n: int, top: int) -> np.ndarray:
     return np.array(sorted(d for d in want if d in present), dtype=np.int64)
 
 
+def command_of(configs: list[str]) -> str:
+    """The command a bundle's ``made_by`` records for a run of ``configs`` (check-bundle recomputes it)."""
+    extra = [c for c in configs if Path(c).name != "config.yaml"]  # config.yaml is always loaded
+    return "snakemake --cores 2" + (f" --configfile {' '.join(extra)}" if extra else "")
+
+
 def made_by(configs: list[str], results_dir: str) -> dict[str, Any]:
     """What made a run: its config files, results folder, the command, commit and version."""
-    extra = [c for c in configs if Path(c).name != "config.yaml"]  # config.yaml is always loaded
-    command = "snakemake --cores 2" + (f" --configfile {' '.join(extra)}" if extra else "")
     return {
         "configs": configs,
         "results_dir": results_dir,
-        "command": command,
+        "command": command_of(configs),
         "git_commit": provenance.git_commit(),
         "version": __version__,
     }
@@ -148,7 +152,7 @@ def check_target(bundle_dir: str | Path, made_by: dict[str, Any]) -> None:
         f"made_by: configs {sorted(made_by['configs'])}, results_dir {made_by['results_dir']!r}); nothing was written"
     )
     held = bundle_holding(target)
-    why = source_folder(target)  # the same guard as results_dir's (config._check_results_dir)
+    why = place_refusal(target)  # the same guard as results_dir's (config.write_refusal); bundles: below
     if why:
         pass
     elif target.resolve() in (here, *here.parents) or target.resolve() in (results, *results.parents):

@@ -162,15 +162,23 @@ def cmd_check_bundle(a: argparse.Namespace) -> int:
             resimulate.parse_which(which, "--resimulate")
         except bundle.BundleError as e:
             raise UsageError(str(e)) from None
-    problems = bundle_check.check(a.bundle)
+    if a.seed is not None and not 0 <= a.seed <= resimulate.MAX_SEED:
+        raise UsageError(f"--seed = {a.seed}; allowed: an integer 0 to {resimulate.MAX_SEED} (a sample:K draw's)")
+    notes: list[str] = []
+    problems = bundle_check.check(a.bundle, notes=notes)
     for line in problems:
         print(line)
+    for line in notes:
+        print(f"{a.bundle}: note: {line}")
     if not problems:
-        print(f"{a.bundle}: every file listed in {bundle.MANIFEST} is present and unchanged")
+        print(
+            f"{a.bundle}: every file listed in {bundle.MANIFEST} is present and unchanged, and what it records "
+            "agrees with its stores, configs and commits"
+        )
     if a.resimulate:
         print(f"re-simulating {', '.join(a.resimulate)} (the bundle's recorded science)", flush=True)
         with c_stdout_to_stderr():  # pybullet's banner
-            again = resimulate.resimulate(a.bundle, a.resimulate)
+            again = resimulate.resimulate(a.bundle, a.resimulate, seed=a.seed, say=lambda s: print(s, flush=True))
         for line in again:
             print(line)
         if not again:
@@ -459,6 +467,13 @@ def build_parser() -> argparse.ArgumentParser:
         "canonical, best_M_L, best_M_CF, a design index (held in the bundle or not) or sample:K (K "
         "random rows); MODEL a registered model (default theory: a few seconds a design at paper "
         "resolution; e.g. empirical:12, a pybullet design of the 11 x 11 survey: about 50 CPU-s)",
+    )
+    b.add_argument(
+        "--seed",
+        type=int,
+        default=None,
+        metavar="S",
+        help="the seed of the sample:K draws (default: a fresh one each run, printed: give it to replay a draw)",
     )
     b.set_defaults(func=cmd_check_bundle)
     g = sub.add_parser(

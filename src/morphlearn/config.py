@@ -8,7 +8,9 @@ import copy
 import hashlib
 import json
 import math
+import os
 import sys
+import tempfile
 from collections.abc import Mapping, Sequence
 from importlib import resources
 from pathlib import Path
@@ -187,7 +189,10 @@ def _check_paths(cfg: dict[str, Any], path_keys: Sequence[str]) -> None:
 #: writes results or a bundle into them or below them.
 SOURCE_FOLDERS = ("benchmarks", "config", "docs", "envs", "notebooks", "profiles", "src", "tests", "tools", "workflow")
 #: Where results may go, for the messages that refuse a folder.
-RESULTS_ALLOWED = "a folder of your own under results/ that is not a bundle (e.g. results/my-run; default 'results')"
+RESULTS_ALLOWED = (
+    "a folder of your own under results/ that is not a bundle, reached without a link out of results/ and "
+    "without a hidden folder (e.g. results/my-run; default 'results'), or one under the system's temporary folder"
+)
 
 
 def _is_file(p: Path) -> bool:
@@ -216,7 +221,84 @@ def bundle_holding(path: str | Path) -> Path | None:
     return next((d for d in (target, *target.parents) if _is_file(d / "bundle.json")), None)
 
 
-def _check_results_dir(rd: str, render_only: bool = False) -> None:
+#: The name of the working copy a re-render of a bundle renders into, beside it
+#: (:func:`morphlearn.bundle_rerender.rendered_copy`): the one hidden folder a run may write, and
+#: only as a render_only run with the bundle's own configs.
+RERENDER_PREFIX = ".rerender-"
+
+
+def place_refusal(path: str | Path, *, rerender: bool = False) -> str | None:
+    """Why ``path`` is no place to write (None when it may be), bundles aside: the project folder
+    or one that holds it, a source folder or inside one (:func:`source_folder`), a path with a
+    hidden part (``.git``, ``.venv``, ``.snakemake``; ``rerender``: but a re-render's working copy
+    ``results/.rerender-*``), a link out of ``results/``, or anywhere outside the project's
+    ``results/`` folder but the system's temporary folder (scratch and tests, outside the project).
+    The project is the folder the command runs in, as for every path of a config."""
+    p = Path(path)
+    why = source_folder(p)
+    if why:
+        return why
+    here = Path.cwd().resolve()
+    results = (here / "results").resolve()
+    target = p.resolve()
+    spelled = Path(os.path.normpath(here / p))  # as written, links not followed
+    parts = list(p.parts if not p.is_absolute() else ())
+    for base in (results, Path(tempfile.gettempdir()).resolve()):
+        if target.is_relative_to(base):
+            parts += target.relative_to(base).parts
+            break
+    hidden = [x for x in parts if x.startswith(".") and x not in (".", "..")]
+    for x in hidden:
+        ok = rerender and x.startswith(RERENDER_PREFIX) and target.parent == results
+        if not ok:
+            return f"has the hidden folder {x!r} in it (.git, .venv, .snakemake and the like are no place for results)"
+    if target == results or target.is_relative_to(results):
+        return None
+    if spelled.is_relative_to(here / "results"):
+        return f"is a symbolic link out of results/ (to {target})"
+    if not target.is_relative_to(here) and target.is_relative_to(Path(tempfile.gettempdir()).resolve()):
+        return None
+    return f"is outside the project's results/ folder ({target})"
+
+
+def write_refusal(path: str | Path, *, rerender: bool = False, configs: Sequence[str] | None = None) -> str | None:
+    """Why nothing may write to ``path`` (None when it may): the one guard of every writer (a run's
+    ``results_dir``, ``bundle_dir``, ``morphlearn refine export`` and ``assemble --write``).
+    Refused: what :func:`place_refusal` refuses, and a results bundle or a folder inside one, but
+    for a ``rerender``: a render_only run that re-makes the bundle at ``path`` itself, with the
+    config files ``configs`` its bundle.json records (None: not known yet, at config load; the
+    workflow's start checks them, :func:`check_results_dir`)."""
+    why = source_folder(path)
+    if why:
+        return why
+    target = Path(path).resolve()
+    held = bundle_holding(target)
+    if held is None:
+        return place_refusal(path, rerender=rerender)
+    if not (rerender and held == target):
+        where = "holds a results bundle" if held == target else f"is inside the results bundle {held}"
+        return f"{where} (bundle.json), which it would write into"
+    if configs is None:
+        return place_refusal(path, rerender=rerender)
+    try:
+        recorded = bounded.json_file(held / "bundle.json").get("made_by", {}).get("configs")
+    except (ValueError, AttributeError):
+        recorded = None
+    given = sorted({os.path.normpath(c) for c in configs})
+    if not isinstance(recorded, list) or given != sorted({os.path.normpath(str(c)) for c in recorded}):
+        extra = [c for c in recorded or [] if Path(str(c)).name != "config.yaml"] if isinstance(recorded, list) else []
+        return (
+            f"holds a results bundle made by configs {recorded}, but this render_only run was given {given}: it "
+            "would re-render the bundle with the wrong config"
+            + (f" (give --configfile {' '.join(map(str, extra))}, as morphlearn render does)" if extra else "")
+        )
+    return place_refusal(path, rerender=rerender)
+
+
+def check_results_dir(rd: str, render_only: bool = False, configs: Sequence[str] | None = None) -> None:
+    """A run's ``results_dir`` against the write guard (:func:`write_refusal`): ConfigError naming
+    it and what is allowed. ``configs``: the run's config files, where known (the workflow's start:
+    a render_only run re-renders a bundle only with the configs it records)."""
     p = Path(rd)
     if p.resolve() == Path(p.resolve().anchor):
         raise ConfigError(
@@ -225,18 +307,21 @@ def _check_results_dir(rd: str, render_only: bool = False) -> None:
         )
     if p.exists() and not p.is_dir():
         raise ConfigError(f"results_dir = {rd!r} is an existing file; allowed: a folder (or a new path)")
-    why = source_folder(p)
-    if why:
-        raise ConfigError(f"results_dir = {rd!r} {why}; allowed: {RESULTS_ALLOWED}")
-    held = bundle_holding(p)
-    # render_only re-renders exactly the bundle named (its documented command); any other run
-    # would write shards, stores and tables into a committed bundle (issue 38)
-    if held is not None and not (render_only and held == p.resolve()):
-        where = "holds a results bundle" if held == p.resolve() else f"is inside the results bundle {held}"
+    why = write_refusal(p, rerender=render_only, configs=configs)
+    if why is None:
+        return
+    if "results bundle" in why:
+        # render_only re-renders exactly the bundle named with its own configs (its documented
+        # command); any other run would write shards, stores and tables into it (issues 38, 57)
         raise ConfigError(
-            f"results_dir = {rd!r} {where} (bundle.json), which a run would write into; allowed: "
-            f"render_only=True with results_dir the bundle itself to re-render it, or {RESULTS_ALLOWED}"
+            f"results_dir = {rd!r} {why}; allowed: render_only=True with results_dir the bundle itself and "
+            f"its own configs to re-render it, or {RESULTS_ALLOWED}"
         )
+    raise ConfigError(f"results_dir = {rd!r} {why}; allowed: {RESULTS_ALLOWED}")
+
+
+def _check_results_dir(rd: str, render_only: bool = False) -> None:
+    check_results_dir(rd, render_only)
 
 
 def _check_analysis(a: dict[str, Any], th: dict[str, Any]) -> None:

@@ -75,6 +75,36 @@ def in_history(commit: str, cwd: str | Path | None = None) -> bool | None:
         return None
 
 
+def is_shallow(cwd: str | Path | None = None) -> bool:
+    """Whether the project's repository is a shallow clone (its history cut: a commit it lacks
+    may still be an ancestor of HEAD)."""
+    where = Path(cwd) if cwd else Path(__file__).resolve().parent
+    try:
+        ask = ["git", "rev-parse", "--is-shallow-repository"]
+        out = subprocess.run(ask, cwd=where, capture_output=True, timeout=10)
+    except (OSError, subprocess.SubprocessError):
+        return False
+    return out.stdout.strip() == b"true"
+
+
+def file_at(commit: str, path: str, cwd: str | Path | None = None, limit: int = 1 << 20) -> str | None:
+    """The text of the project's file ``path`` (relative to its root) at ``commit``; None where the
+    repository cannot say (no git, an unknown commit, no such file then, or larger than ``limit``)."""
+    where = Path(cwd) if cwd else Path(__file__).resolve().parent
+    if not re.fullmatch(r"[0-9a-f]{7,64}", commit) or not re.fullmatch(r"[\w./-]+", path) or ".." in path:
+        return None
+    try:
+        out = subprocess.run(["git", "show", f"{commit}:{path}"], cwd=where, capture_output=True, timeout=10)
+    except (OSError, subprocess.SubprocessError):
+        return None
+    if out.returncode != 0 or len(out.stdout) > limit:
+        return None
+    try:
+        return out.stdout.decode("utf-8")
+    except UnicodeDecodeError:
+        return None
+
+
 def sha256_file(path: str | Path) -> str:
     """SHA-256 of a file, or of a directory tree (relative names and contents, sorted)."""
     p = Path(path)

@@ -35,6 +35,7 @@ import pandas as pd
 from morphlearn import __version__, bounded, metrics, models, provenance, store
 from morphlearn import resumable as rz
 from morphlearn.bundle import MANIFEST, bundle_files
+from morphlearn.config import RESULTS_ALLOWED, place_refusal
 from morphlearn.grid import DesignGrid
 
 #: The design grid the bundles are on (the paper's: 9 positions per axis, 6561 designs).
@@ -160,6 +161,9 @@ def _row_commits(folder: Path) -> dict[str, int]:
 def check_target(out: Path, model: str) -> None:
     """Refuse (RefineError) an out folder that holds anything but a refine bundle of ``model``."""
     allowed = f"allowed: an absent or empty folder, or a bundle this command made for model {model!r}"
+    why = place_refusal(out)  # the write guard every writer shares (config.write_refusal); bundles: below
+    if why:
+        raise rz.RefineError(f"--out {out} {why}; nothing was written; allowed: {RESULTS_ALLOWED}")
     if out.is_symlink() or (out.exists() and not out.is_dir()):
         raise rz.RefineError(f"--out {out}: a file or a link, not a bundle folder; {allowed}")
     if not out.is_dir() or not any(out.iterdir()):

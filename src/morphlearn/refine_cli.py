@@ -48,6 +48,17 @@ def _folder(path: Path) -> Path:
     return path
 
 
+def _writable(path: Path, what: str) -> None:
+    """The write guard every writer shares (:func:`morphlearn.config.write_refusal`): never into a
+    results bundle, the source tree, a hidden folder (.git, .venv) or outside results/ (issue 57:
+    ``refine export`` wrote into a committed bundle, src/, tools/ and .git/). ValueError, one line."""
+    from morphlearn.config import RESULTS_ALLOWED, write_refusal
+
+    why = write_refusal(path)
+    if why:
+        raise ValueError(f"{what} {str(path)!r} {why}; nothing was written; allowed: {RESULTS_ALLOWED}")
+
+
 def status(a: argparse.Namespace) -> int:
     from morphlearn import resumable as rz
 
@@ -94,6 +105,8 @@ def _summary(folder: Path) -> tuple[Any, dict[str, Any]]:
 def assemble(a: argparse.Namespace) -> int:
     from morphlearn import resumable as rz
 
+    if a.write:
+        _writable(a.folder, "FOLDER (assemble --write writes result.npz and summary.json into it)")
     asm, s = _summary(a.folder)
     print(json.dumps(s, indent=1, sort_keys=True))
     if a.write:
@@ -145,6 +158,7 @@ def export(a: argparse.Namespace) -> int:
     from morphlearn import resumable as rz
 
     src, dest = a.folder, a.dest
+    _writable(dest, "DEST")
     asm, s = _summary(src)
     job = rz.job_from_manifest(asm.manifest)
     # exported in place (the folder is its own export): only the README and summary are written,

@@ -5,7 +5,8 @@ seconds, a physics engine's design on request (its levers as the run recorded th
 
 from __future__ import annotations
 
-from collections.abc import Iterable
+import secrets
+from collections.abc import Callable, Iterable
 from pathlib import Path
 
 import numpy as np
@@ -36,27 +37,57 @@ def parse_which(which: str, flag: str = "re-simulate") -> tuple[str, str]:
     )
 
 
-def resimulate(out_dir: str | Path, which: Iterable[str] = ("canonical", "best_M_L")) -> list[str]:
+#: Largest seed of a ``sample:K`` draw (drawn afresh each run unless given).
+MAX_SEED = 2**63 - 1
+
+
+def fresh_seed() -> int:
+    """A seed no one can know before the run (the operating system's randomness)."""
+    return secrets.randbelow(MAX_SEED + 1)
+
+
+def resimulate(
+    out_dir: str | Path,
+    which: Iterable[str] = ("canonical", "best_M_L"),
+    *,
+    seed: int | None = None,
+    say: Callable[[str], None] | None = None,
+) -> list[str]:
     """Re-simulate designs of a bundle from its recorded science and compare with it.
 
-    ``which``: ``[MODEL:]WHICH`` (:func:`parse_which`); ``sample:K`` draws K designs at random,
-    seed 0, from all rows of that model's table. Each design's metrics row (counts per environment,
-    generalists, flagged) and, when the bundle holds them, its stored outcome arrays must come out
-    exactly; the problems found are returned (empty: every design agrees). The thresholds are the
-    ones the bundle's metrics were computed with (its provenance record).
+    ``which``: ``[MODEL:]WHICH`` (:func:`parse_which`); ``sample:K`` draws K designs at random from
+    all rows of that model's table, with ``seed`` (default: a fresh one, :func:`fresh_seed`: a
+    forger who reads the code cannot know which rows will be drawn; issue 57, where seed 0 always
+    drew the same ones). ``say`` is told the seed, the designs drawn and the chance that K rows
+    catch a forgery of one design, so a failure can be replayed. Each design's metrics row (counts
+    per environment, generalists, flagged) and, when the bundle holds them, its stored outcome
+    arrays must come out exactly; the problems found are returned (empty: every design agrees). The
+    thresholds are the ones the bundle's metrics were computed with (its provenance record).
     """
     out_dir = Path(out_dir)
     by_model: dict[str, list[str]] = {}
     for w in which:
         model, spec = parse_which(w)
         by_model.setdefault(model, []).append(spec)
+    if seed is None:
+        seed = fresh_seed()
+    elif not 0 <= seed <= MAX_SEED:
+        raise BundleError(f"--seed = {seed}; allowed: an integer 0 to {MAX_SEED}")
+    rng = np.random.default_rng(seed)
     problems = []
     for model, specs in by_model.items():
-        problems += _resimulate_model(out_dir, model, specs)
+        problems += _resimulate_model(out_dir, model, specs, rng, seed, say or (lambda _: None))
     return problems
 
 
-def _resimulate_model(out_dir: Path, model: str, which: list[str]) -> list[str]:
+def sample_chance(k: int, n: int) -> float:
+    """The chance that ``k`` rows drawn without replacement from ``n`` include one given row."""
+    return k / n if n else 0.0
+
+
+def _resimulate_model(
+    out_dir: Path, model: str, which: list[str], rng: np.random.Generator, seed: int, say: Callable[[str], None]
+) -> list[str]:
     m = models.get(model)
     folder = out_dir / model
     if not (folder / "merged.zarr").is_dir():
@@ -67,7 +98,16 @@ def _resimulate_model(out_dir: Path, model: str, which: list[str]) -> list[str]:
     prov = provenance.read_record(folder / "metrics.provenance.json")
     th = metrics.Thresholds(**prov["config"]["thresholds"])
     g = gridmod.DesignGrid(m.positions_of(sci))
-    wanted = [d for w in which for d in _designs_of(w, table, g)]
+    wanted = []
+    for w in which:
+        got = _designs_of(w, table, g, rng)
+        if w.startswith("sample:"):
+            p = sample_chance(len(got), len(table))
+            say(
+                f"{model} {w}: designs {got} drawn with seed {seed} (replay: --seed {seed}); a forged row of one "
+                f"design is among them with chance {len(got)}/{len(table)} = {p:.3g}"
+            )
+        wanted += got
     # the table's meaning first (check-bundle's check): a row whose coordinates are not its
     # design's would otherwise pass, the design being simulated at its index's coordinates
     meaning = [f"{folder}/metrics.csv: {p}" for p in meaning_problems(folder / "metrics.csv", table)]
@@ -125,7 +165,7 @@ def _held_models(out_dir: Path) -> str:
     return ", ".join(n for n in models.MODELS if (out_dir / n / "merged.zarr").is_dir()) or "none"
 
 
-def _designs_of(which: str, table: pd.DataFrame, g: gridmod.DesignGrid) -> list[int]:
+def _designs_of(which: str, table: pd.DataFrame, g: gridmod.DesignGrid, rng: np.random.Generator) -> list[int]:
     if which == "canonical":
         return [g.index_of(*gridmod.canonical_design())]
     if which in ("best_M_L", "best_M_CF"):
@@ -139,7 +179,6 @@ def _designs_of(which: str, table: pd.DataFrame, g: gridmod.DesignGrid) -> list[
         return [int(which)]
     k = which.removeprefix("sample:")
     if which.startswith("sample:") and k.isdigit() and 0 < int(k) <= len(table):
-        rng = np.random.default_rng(0)
         return sorted(int(d) for d in rng.choice(table.design.to_numpy(), size=int(k), replace=False))
     raise BundleError(
         f"re-simulate {which!r}: allowed: canonical, best_M_L, best_M_CF, a design index or sample:K "

@@ -29,7 +29,7 @@ from typing import Any
 
 import pandas as pd
 
-from morphlearn import __version__, bundle_check, provenance, store
+from morphlearn import __version__, bundle_check, config, provenance, store
 from morphlearn import bundle as bundlemod
 
 #: Files of the scenario folder copied as they are (paths relative to it).
@@ -197,6 +197,10 @@ def main(argv: list[str] | None = None) -> int:
     r.add_argument("bundle_dir")
     a = ap.parse_args(argv)
     if a.cmd == "build":
+        why = config.place_refusal(a.bundle_dir)  # the write guard every writer shares (config.write_refusal)
+        if why:
+            print(f"bundle_dir {a.bundle_dir!r} {why}; nothing was written; allowed: {config.RESULTS_ALLOWED}")
+            return 2
         made_by = {
             "results_dir": a.scenarios_dir,
             "command": COMMAND,

@@ -49,6 +49,11 @@ class IntegrityError(ValueError):
 
 
 COORDS = ("design", "env", "w1", "w2", "l1x", "l1y", "l2x", "l2y")
+#: Weights per synapse a store may declare at most (the config schema's ``grid.weights`` maximum):
+#: a reader decodes one design's (env, w1, w2) chunk at a time, so this bounds its memory (4 x 1001
+#: x 1001 float32: 16 MB a variable). A store declaring more (a forged ``zarr.json``) is refused
+#: before anything is read, never a MemoryError.
+MAX_WEIGHTS = 1001
 #: Where a results folder keeps the physics survey it read from another bundle (``survey_from``):
 #: ``survey/<model>/`` beside the models' own folders, the same files as a model's.
 SURVEY_DIR = "survey"
@@ -408,8 +413,30 @@ def open_merged(path: str | Path) -> xr.Dataset:
     for k in VARS:
         if k not in ds or len(integ["chunks"].get(k, ())) != ds.sizes["design"]:
             raise IntegrityError(f"{path}: variable {k} missing or without a digest per design")
+    _check_shape(ds, path)
     ds.encoding["morphlearn_path"] = str(path)
     return ds
+
+
+def _check_shape(ds: xr.Dataset, path: Path) -> None:
+    """What every chunk read decodes is bounded: each variable (design, 4 environments, m, m) with
+    m <= :data:`MAX_WEIGHTS`, of its own dtype, in one chunk per design (IntegrityError naming it)."""
+    n, m = ds.sizes["design"], ds.sizes.get("w1", 0)
+    want = (n, len(ENV_ANGLES_DEG), m, m)
+    chunk = (1, *want[1:])
+    if not 1 <= m <= MAX_WEIGHTS:
+        raise IntegrityError(
+            f"{path}: declares {m} weights per synapse; allowed: 1 to {MAX_WEIGHTS} (each design's chunk "
+            "is read whole, within a memory bound)"
+        )
+    for k in VARS:
+        v = ds[k]
+        got = tuple(v.encoding.get("chunks") or ())
+        if v.dims != DIMS or v.shape != want or v.dtype != FILL[k].dtype or got != chunk:
+            raise IntegrityError(
+                f"{path}: variable {k} declares dims {v.dims}, shape {v.shape}, dtype {v.dtype}, chunks {got}; "
+                f"allowed: dims {DIMS}, shape {want}, dtype {FILL[k].dtype}, chunks {chunk} (one design a chunk)"
+            )
 
 
 def _fail(ds: xr.Dataset, k: str, i: int, why: str) -> IntegrityError:

@@ -17,8 +17,13 @@ from morphlearn.figures import options as figure_options
 from morphlearn.figures import registry as figure_registry
 
 # The config, parsed once into typed settings: everything below reads S, never the raw dict.
+# results_dir is checked again with the config files given (the write guard): a render_only run
+# re-renders a bundle only with the configs its bundle.json records (issue 57).
 try:
     S = configure.parse(config)
+    cfgmod.check_results_dir(
+        S.results_dir, S.render_only, [os.path.relpath(f) for f in workflow.configfiles]
+    )
 except cfgmod.ConfigError as err:
     print(f"morphlearn: config error: {err}", file=sys.stderr)
     sys.exit(2)
