@@ -161,3 +161,21 @@ def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item
     # out in this order): a long group started last would leave the other workers idle at the end.
     rank = {g: i for i, g in enumerate(LONGEST_GROUPS)}
     items.sort(key=lambda item: rank.get(group[item], len(rank)))
+
+
+#: The authors' canonical design on 11 x 11 weights: the overlap O (rows w1, columns w2, from -1),
+#: from the authors' facts (docs/ode.md); ODE gives it, and its rows w1 = -1 .. -0.4 agree with their
+#: published matrix (tests/test_ode.py, tests/test_reduced.py).
+CANONICAL_O_11 = """
+0,1,2,0,0,0,0,0,0,0,0
+1,0,2,0,0,0,0,0,0,0,0
+2,2,0,2,0,0,0,0,0,0,0
+0,0,2,0,0,0,0,0,0,0,0
+0,0,0,0,0,0,0,0,0,0,0
+0,0,0,0,0,0,0,0,0,0,0
+0,0,0,0,0,0,2,0,0,0,0
+0,0,0,0,0,0,0,2,0,0,0
+0,0,0,0,0,0,0,0,2,1,0
+0,0,0,0,0,0,0,0,1,2,2
+0,0,0,0,0,0,0,0,0,2,4
+"""

@@ -9,6 +9,7 @@ import sys
 
 import numpy as np
 import pytest
+from conftest import CANONICAL_O_11
 
 from morphlearn.grid import weights
 from morphlearn.physics.options import SweepOptions
@@ -23,21 +24,6 @@ from morphlearn.ode.episode import evaluate_design  # noqa: E402
 BODY = load_params("config/authors_body.yaml")
 WR = 0.260017
 CANONICAL = ((0.5, 0.5), (0.5, -0.5))
-#: The authors' canonical design on 11 x 11 weights: the overlap O (rows w1, columns w2, from -1),
-#: from the authors' facts (docs/ode.md); its rows w1 = -1 .. -0.4 agree with their published matrix.
-CANONICAL_O_11 = """
-0,1,2,0,0,0,0,0,0,0,0
-1,0,2,0,0,0,0,0,0,0,0
-2,2,0,2,0,0,0,0,0,0,0
-0,0,2,0,0,0,0,0,0,0,0
-0,0,0,0,0,0,0,0,0,0,0
-0,0,0,0,0,0,0,0,0,0,0
-0,0,0,0,0,0,2,0,0,0,0
-0,0,0,0,0,0,0,2,0,0,0
-0,0,0,0,0,0,0,0,2,1,0
-0,0,0,0,0,0,0,0,1,2,2
-0,0,0,0,0,0,0,0,0,2,4
-"""
 
 
 def test_body_file_holds_the_authors_constants() -> None:

@@ -9,6 +9,7 @@ import itertools
 
 import numpy as np
 import pytest
+from conftest import CANONICAL_O_11
 
 from morphlearn import metrics, store
 from morphlearn.grid import DesignGrid, weights
@@ -20,21 +21,6 @@ from morphlearn.reduced.episode import evaluate_design
 BODY = load_params("config/authors_body.yaml")
 CANONICAL = ((0.5, 0.5), (0.5, -0.5))
 PAPER_BEST = ((-0.5, 0.125), (0.5, -0.375))
-#: The canonical design's overlap on 11 x 11 weights from the authors' facts (as in test_ode.py):
-#: ODE gives it, and its rows w1 = -1 .. -0.4 are the authors' published matrix.
-CANONICAL_O_11 = """
-0,1,2,0,0,0,0,0,0,0,0
-1,0,2,0,0,0,0,0,0,0,0
-2,2,0,2,0,0,0,0,0,0,0
-0,0,2,0,0,0,0,0,0,0,0
-0,0,0,0,0,0,0,0,0,0,0
-0,0,0,0,0,0,0,0,0,0,0
-0,0,0,0,0,0,2,0,0,0,0
-0,0,0,0,0,0,0,2,0,0,0
-0,0,0,0,0,0,0,0,2,1,0
-0,0,0,0,0,0,0,0,1,2,2
-0,0,0,0,0,0,0,0,0,2,4
-"""
 
 
 def _cells(m: int) -> tuple[np.ndarray, np.ndarray]:

@@ -15,14 +15,13 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from pathlib import Path
-from types import SimpleNamespace
 
 import numpy as np
 
 from morphlearn.ode.core import run
 from morphlearn.physics.options import SweepOptions
 from morphlearn.physics.params import EmpiricalParams
-from morphlearn.physics.sweep import sweep, without_reach_bound
+from morphlearn.physics.sweep import authors_robot_design
 from morphlearn.results import DesignResult
 
 Point = tuple[float, float]
@@ -42,12 +41,6 @@ def evaluate_design(
     """All (env, w1, w2) episodes of one design; arrays (4, m, m) [env, i_w1, i_w2]: the physics
     layer's sweep (:func:`morphlearn.physics.sweep.sweep`: adaptive grid, resume from ``partial``)
     over this engine's batches."""
-    options = without_reach_bound(options, "in the ode model")
-
-    def batch(w: np.ndarray, env: np.ndarray) -> SimpleNamespace:
-        ep, _ = run(params, l1, l2, w, env)
-        return SimpleNamespace(
-            first_time=np.where(ep.success, ep.first_step * params.dt, np.nan), min_dist=ep.min_dist, finite=ep.finite
-        )
-
-    return sweep(batch, l1, l2, weights, params, options, progress, partial, chunk=CHUNK)
+    return authors_robot_design(
+        run, l1, l2, weights, params, progress, options, partial, where="in the ode model", chunk=CHUNK
+    )

@@ -19,11 +19,13 @@ from __future__ import annotations
 import time
 from collections.abc import Callable
 from pathlib import Path
+from types import SimpleNamespace
 from typing import Protocol
 
 import numpy as np
 
 from morphlearn.physics import partial as partial_cells
+from morphlearn.physics.batch import Episodes
 from morphlearn.physics.options import SweepOptions
 from morphlearn.physics.params import EmpiricalParams
 from morphlearn.physics.refine import refine_waves
@@ -103,6 +105,33 @@ def sweep(
     if progress is not None:
         progress(total, total)
     return DesignResult(first_time=first, min_dist=dist, status=status)
+
+
+def authors_robot_design(
+    run: Callable[..., tuple[Episodes, object]],
+    l1: Point,
+    l2: Point,
+    weights: np.ndarray,
+    params: EmpiricalParams,
+    progress: Callable[[int, int], None] | None,
+    options: SweepOptions | None,
+    partial: Path | None,
+    *,
+    where: str,
+    chunk: int,
+) -> DesignResult:
+    """A design's sweep for an engine of the authors' robot whose ``run(params, l1, l2, w, env)``
+    gives :class:`morphlearn.physics.batch.Episodes` (ODE, the reduced model): every episode to its
+    first success (no reach bound: it was derived for the project's body), the first success as a
+    time. ``where``: the engine, as the refusal of ``early_stop`` names it."""
+    options = without_reach_bound(options, where)
+
+    def batch(w: np.ndarray, env: np.ndarray) -> SimpleNamespace:
+        ep, _ = run(params, l1, l2, w, env)
+        first = np.where(ep.success, ep.first_step * params.dt, np.nan)
+        return SimpleNamespace(first_time=first, min_dist=ep.min_dist, finite=ep.finite)
+
+    return sweep(batch, l1, l2, weights, params, options, progress, partial, chunk=chunk)
 
 
 def without_reach_bound(options: SweepOptions | None, where: str) -> SweepOptions:
