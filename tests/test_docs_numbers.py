@@ -116,6 +116,9 @@ def facts() -> list[float]:
     # the engines against ODE (results/agreement)
     out += [*(100 * ag.cells_same), *ag.cells_compared, *ag.rho_solved, *(100 * ag.with_generalist)]
     out += [*(100 * ag.with_generalist_ode)]
+    # the reproduction table's header counts (verdicts given; rows without one stand apart)
+    rt = _table("results/paper/reproduction.csv")
+    out += [*rt.verdict.value_counts(), rt.verdict.notna().sum(), *rt.section.value_counts()]
     # the reduced model of the authors' robot against ODE (results/reduced-*, docs/reduced.md)
     for rel in ("results/reduced-agreement-paper/agreement.csv", "results/reduced-agreement-survey/agreement.csv"):
         if (ROOT / rel).is_file():
