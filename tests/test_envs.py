@@ -155,7 +155,7 @@ def test_every_conda_rule_is_run() -> None:
 
 @pytest.mark.slow
 def test_each_env_runs_its_rules(tmp_path: Path) -> None:
-    from conftest import copy_workflow, job_stats, snakemake
+    from conftest import TEST_COMMIT, copy_workflow, job_stats, snakemake
 
     wd = copy_workflow(tmp_path / "wd")
     # optimise_morphology with one NSGA-II population (20 evaluations: seconds, not minutes)
@@ -186,7 +186,7 @@ def test_each_env_runs_its_rules(tmp_path: Path) -> None:
             capture_output=True,
             text=True,
             timeout=900,
-            env=dict(os.environ, MORPHLEARN_GIT_COMMIT="test"),
+            env=dict(os.environ, MORPHLEARN_GIT_COMMIT=TEST_COMMIT),
         )
         logs = "\n".join(p.read_text()[-1500:] for p in sorted((wd / "results").rglob("logs/**/*.log")))
         assert proc.returncode == 0, f"envs/{env}.yaml {args}:\n{proc.stderr[-3000:]}\n{logs}"

@@ -12,7 +12,7 @@ import numpy as np
 import pandas as pd
 import pytest
 import yaml
-from conftest import job_stats, snakemake
+from conftest import TEST_COMMIT, job_stats, snakemake
 
 from morphlearn import config
 from morphlearn.figures import output
@@ -32,7 +32,7 @@ def test_figure_is_a_non_blank_image_of_the_expected_size(smoke_run: Path, fig: 
     caption = (out / f"{fig}.caption.md").read_text()
     assert caption.startswith("**Figure ") and "**Data and config.**" in caption
     if fig != "fig1":
-        assert "git commit test" in caption and "sha256" in caption
+        assert f"git commit {TEST_COMMIT}" in caption and "sha256" in caption
     # The executed notebook is the rule's log, exported to HTML, and ran without an error.
     nb = json.loads((smoke_run / f"results/logs/figures/{fig}.ipynb").read_text())
     outputs = [o for c in nb["cells"] if c["cell_type"] == "code" for o in c.get("outputs", [])]

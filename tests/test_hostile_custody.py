@@ -476,7 +476,7 @@ def test_every_rule_of_every_stage_keeps_its_previous_outputs(run: Path) -> None
         capture_output=True,
         text=True,
         timeout=600,
-        env={**os.environ, "MORPHLEARN_GIT_COMMIT": "test"},
+        env={**os.environ, "MORPHLEARN_GIT_COMMIT": TEST_COMMIT},
     )
     assert proc.returncode == 0, proc.stderr[-3000:]
     rules_seen = json.loads(proc.stdout.splitlines()[-1])

@@ -25,7 +25,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 import yaml
-from conftest import ROOT, copy_workflow
+from conftest import ROOT, TEST_COMMIT, copy_workflow
 
 from morphlearn import bundle_rerender, cli, config, configure, explore
 from morphlearn.ode import core as odecore
@@ -227,7 +227,7 @@ def test_workflow_dry_run_refuses_what_the_engine_cannot_run(wf: Path, key: str,
         capture_output=True,
         text=True,
         timeout=300,
-        env={**os.environ, "MORPHLEARN_GIT_COMMIT": "test"},
+        env={**os.environ, "MORPHLEARN_GIT_COMMIT": TEST_COMMIT},
     )
     assert proc.returncode != 0, proc.stdout[-2000:]
     assert f"ode.params.{key} = " in proc.stderr and "allowed" in proc.stderr, proc.stderr[-2000:]

@@ -22,7 +22,7 @@ from pathlib import Path
 
 import pytest
 import yaml
-from conftest import ROOT, copy_workflow, snakemake
+from conftest import ROOT, TEST_COMMIT, copy_workflow, snakemake
 
 from morphlearn import cli, config, configure, scenarios
 
@@ -412,7 +412,7 @@ def _start_refusal(wd: Path, *args: str, cwd: Path | None = None) -> str:
         capture_output=True,
         text=True,
         timeout=300,
-        env={**os.environ, "MORPHLEARN_GIT_COMMIT": "test"},
+        env={**os.environ, "MORPHLEARN_GIT_COMMIT": TEST_COMMIT},
     )
     ours = [line for line in proc.stderr.splitlines() if line.startswith("morphlearn")]
     assert proc.returncode == 2 and len(ours) == 1, (proc.returncode, proc.stderr[-2000:])

@@ -150,4 +150,4 @@ def test_design_command_takes_the_robot(capsys: pytest.CaptureFixture) -> None:
     assert "--robot project: the ode model builds authors" in err and len(err.splitlines()) == 1
     assert cli.main([*args, "--model", "theory", "--robot", "authors"]) == 2
     err = capsys.readouterr().err
-    assert "--robot: option of the empirical, mujoco and ode models; the theory model takes" in err
+    assert "--robot: option of the empirical, mujoco, ode and reduced models; the theory model takes" in err

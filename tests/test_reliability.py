@@ -24,7 +24,7 @@ import psutil
 import pytest
 import xarray as xr
 import yaml
-from conftest import copy_workflow, job_stats, snakemake, written_results
+from conftest import TEST_COMMIT, copy_workflow, job_stats, snakemake, written_results
 
 from morphlearn import cli, config, configure, grid, models, store
 from morphlearn.provenance import sha256_file
@@ -274,7 +274,7 @@ def _incomplete_outputs(wd: Path) -> set[str]:
 def test_kill_mid_run_then_resume_recomputes_only_unfinished_shards(done_run: Path, tmp_path: Path) -> None:
     wd = workflow_copy(tmp_path / "killed")
     shards = [f"results/theory/shards/shard_{i}.nc" for i in range(N_SHARDS)]
-    env = dict(os.environ, MORPHLEARN_GIT_COMMIT="test")
+    env = dict(os.environ, MORPHLEARN_GIT_COMMIT=TEST_COMMIT)
     log_path = tmp_path / "first.log"
     with log_path.open("w") as log:
         proc = subprocess.Popen(

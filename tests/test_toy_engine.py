@@ -15,7 +15,7 @@ import sys
 from pathlib import Path
 
 import pytest
-from conftest import copy_workflow
+from conftest import TEST_COMMIT, copy_workflow
 
 TOY = '''"""A toy engine: success is analytic (same-sign weights, close enough for the sensors' spread)."""
 
@@ -67,7 +67,7 @@ toy:
 
 
 def _run(wd: Path, *args: str, timeout: int = 900) -> subprocess.CompletedProcess[str]:
-    env = {**os.environ, "PYTHONPATH": str(wd / "src"), "MORPHLEARN_GIT_COMMIT": "test"}
+    env = {**os.environ, "PYTHONPATH": str(wd / "src"), "MORPHLEARN_GIT_COMMIT": TEST_COMMIT}
     r = subprocess.run(list(args), cwd=wd, capture_output=True, text=True, timeout=timeout, env=env)
     assert r.returncode == 0, f"{' '.join(args)}:\n{r.stdout[-3000:]}\n{r.stderr[-3000:]}"
     return r

@@ -21,11 +21,16 @@ def missing(ax: Axes, text: str = MISSING_TEXT, title: str | None = None) -> Non
         ax.set_title(title)
 
 
-def panel_letter(ax: Axes, letter: str) -> None:
+def panel_letter(ax: Axes, letter: str, level_with_title: bool = True) -> None:
     """The panel's letter left of the axes, its top level with the top of the axes' title (its
     first line: a centred multi-line title wider than the axes runs into a letter level with its
     last line, Fig. 6 D); above the axes when there is no title. Placed at draw time: the title may
-    be set after the letter."""
+    be set after the letter. ``level_with_title=False``: the earlier place, just above the axes'
+    corner, which a figure of one-line titles keeps (the scenario set's comparison, whose committed
+    bundle has no re-render path yet)."""
+    if not level_with_title:
+        ax.text(-0.08, 1.02, letter, transform=ax.transAxes, ha="right", va="bottom", fontsize=14, fontweight="bold")
+        return
     ax.annotate(
         letter,
         xy=(-0.08, 1.0),
