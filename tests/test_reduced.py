@@ -192,3 +192,36 @@ def test_cuda_kernel_under_the_simulator_matches_the_cpu_kernel(tmp_path: object
 def test_unknown_backend_is_one_line() -> None:
     with pytest.raises(ValueError, match="backend = 'gpu' is invalid; allowed: 'cpu', 'cuda'"):
         run(BODY, *CANONICAL, [[1.0, 1.0]], [0], backend="gpu")
+
+
+def test_the_workflow_runs_the_reduced_model_to_the_same_outcomes(tmp_path: object) -> None:
+    """`reduced` in a config: its shard, merge and metrics rules (the physics base's), with mirror
+    derivation; a design's row equals the model's direct sweep."""
+    from pathlib import Path
+
+    import pandas as pd
+    import yaml
+    from conftest import copy_workflow, snakemake
+
+    from morphlearn import metrics as met
+
+    wd = copy_workflow(Path(str(tmp_path)) / "wf")
+    cfg = {
+        "results_dir": "results/red",
+        "grid": {"positions_per_axis": 3, "weights": 3},
+        "theory": {"enabled": False},
+        "figures": {"enabled": False},
+        "empirical": {"enabled": False},
+        "reduced": {"enabled": True, "weights": 3, "designs": "all", "mirror_derive": True, "shards": 2},
+    }
+    (wd / "config/red.yaml").write_text(yaml.safe_dump(cfg))
+    snakemake(wd, "results/red/reduced/metrics.csv", "--cores", "2", "--configfile", "config/red.yaml")
+    t = pd.read_csv(wd / "results/red/reduced/metrics.csv", comment="#")
+    assert len(t) == 81 and (t.model == "reduced").all()
+    g = DesignGrid(3)
+    d = int(g.index_of((0.5, 0.5), (0.5, -0.5)))
+    res = evaluate_design(*CANONICAL, weights(3), BODY)
+    succ = np.isfinite(res.first_time)
+    row = t[t.design == d].iloc[0]
+    assert [row.n_45, row.n_135, row.n_225, row.n_315] == succ.sum(axis=(1, 2)).tolist()
+    assert row.generalists == int((met.overlap(succ) == 4).sum())
