@@ -62,6 +62,7 @@ class Variant:
     slip: float = authors.SLIP  # the wheels' contacts
     castor_slip: float | None = authors.SLIP  # None: a free swivel (no force)
     mass_scale: float = 1.0
+    torque_scale: float = 1.0  # the motors' cap (given to the kernel: the body file's range stops at 1e4)
     planar: bool = False
     linear: bool = False
 
@@ -74,11 +75,11 @@ VARIANTS = [
     Variant("no wheel slip", slip=1e-6),
     Variant("rolling drive", slip=1e-6, castor_slip=None),
     Variant("no inertia", mass_scale=1e-6),
-    Variant("no torque cap", params=lambda p: p.replace(max_torque=p.max_torque * 1e6)),
+    Variant("no torque cap", torque_scale=1e6),
     Variant("linear motor law", linear=True),
     Variant(
         "kinematic",
-        params=lambda p: p.replace(max_torque=p.max_torque * 1e6),
+        torque_scale=1e6,
         slip=1e-6,
         castor_slip=None,
         mass_scale=1e-6,
@@ -128,8 +129,9 @@ def solved_cells(v: Variant, base: EmpiricalParams, m: int) -> tuple[np.ndarray,
         c = g.coords(d)
         b = constants(v, p, (c[0], c[1]), (c[2], c[3]))
         first, dmin, steps, ok = np.empty(n, np.int64), np.empty(n), np.empty(n, np.int64), np.empty(n, np.bool_)
+        tmax = p.max_torque * v.torque_scale
         run_batch(
-            b.g, b.hm, b.kk, b.cen, p.dt, p.steps, vmax, p.max_torque, authors.success_radius(p), b.dz2,
+            b.g, b.hm, b.kk, b.cen, p.dt, p.steps, vmax, tmax, authors.success_radius(p), b.dz2,
             lights, np.ascontiguousarray(c, dtype=np.float64), ww, True, first, dmin, steps, ok,
         )  # fmt: skip
         succ[d] = (first >= 0).reshape(4, m, m)
