@@ -90,25 +90,16 @@ VARIANTS = [
 
 
 def constants(v: Variant, p: EmpiricalParams, l1: tuple[float, float], l2: tuple[float, float]) -> bodymod.Body:
-    """The step's constants of ``v`` (body.body's derivation with the variant's slip and masses)."""
+    """The step's constants of ``v``: body.body's derivation with the variant's slips, masses and
+    sensor height (the model itself where ``v`` changes none of them)."""
+    if (v.slip, v.castor_slip, v.mass_scale, v.planar) == (authors.SLIP, authors.SLIP, 1.0, False):
+        return bodymod.body(p, l1, l2)
     m, s = bodymod.mass_matrix(p, l1, l2)
-    m, s = m * v.mass_scale, s * v.mass_scale
     j = bodymod.contact_jacobian(p)
     # rows: left wheel x, y, right wheel x, y, castor x, y; each a damper of 1 / slip
     c = np.array([1 / v.slip] * 4 + ([0.0, 0.0] if v.castor_slip is None else [1 / v.castor_slip] * 2))
-    a = m + p.dt * j.T @ np.diag(c) @ j
-    ai = np.linalg.inv(a)
-    k = p.dt * ai[3:5, 3:5] + bodymod.ODE_CFM * np.eye(2)
-    k3 = (k[0, 0], 0.5 * (k[0, 1] + k[1, 0]), k[1, 1])
-    inv = np.linalg.inv(np.array([[k3[0], k3[1]], [k3[1], k3[2]]]))
     dz = 0.0 if v.planar else authors.sensor_height(p) - authors.LIGHT_Z
-    return bodymod.Body(
-        g=np.ascontiguousarray((ai @ m).ravel()),
-        hm=np.ascontiguousarray((p.dt * ai[:, 3:5]).ravel()),
-        kk=np.array([*k3, inv[0, 0], inv[0, 1], inv[1, 1], 1.0 / k3[0], 1.0 / k3[2]]),
-        cen=np.ascontiguousarray(p.dt * ai[:, 0:2] @ s),
-        dz2=float(dz * dz),
-    )
+    return bodymod.constants(p.dt, m * v.mass_scale, s * v.mass_scale, p.dt * j.T @ np.diag(c) @ j, dz)
 
 
 def solved_cells(v: Variant, base: EmpiricalParams, m: int) -> tuple[np.ndarray, np.ndarray, float]:

@@ -31,7 +31,7 @@ Approximations (named; each is measured against ODE cell by cell, docs/reduced.m
 4. Gyroscopic terms vanish (every spinning part is a sphere; the box turns about z only).
 """
 
-# ruff: noqa: N806 (M, J, A, G, K: the matrices by their names in the step equations)
+# ruff: noqa: N803, N806 (M, S, J, A, G, K: the matrices by their names in the step equations)
 from __future__ import annotations
 
 from dataclasses import dataclass
@@ -115,15 +115,21 @@ def body(p: EmpiricalParams, l1: tuple[float, float], l2: tuple[float, float]) -
     M, S = mass_matrix(p, l1, l2)
     J = contact_jacobian(p)
     # M (q_new - q) = dt (J^T f + centripetal + J_m^T lam), f = -(1/slip) J q_new: the dampers implicit
-    A = M + p.dt / authors.SLIP * J.T @ J
-    Ainv = np.linalg.inv(A)
+    damping = p.dt / authors.SLIP * J.T @ J
+    return constants(p.dt, M, S, damping, authors.sensor_height(p) - authors.LIGHT_Z)
+
+
+def constants(dt: float, M: np.ndarray, S: np.ndarray, damping: np.ndarray, dz: float) -> Body:
+    """The step's constants from the mass matrix ``M``, the first moment ``S``, the dampers' implicit
+    term ``damping`` (dt J^T C J) and the sensors' height above the light ``dz``: one derivation for
+    the model (:func:`body`) and for variants of it (benchmarks/ablate_reduced.py)."""
+    Ainv = np.linalg.inv(M + damping)
     G = Ainv @ M
-    Hm = p.dt * Ainv[:, 3:5]
-    K = p.dt * Ainv[3:5, 3:5] + ODE_CFM * np.eye(2)
-    cen = p.dt * Ainv[:, 0:2] @ S
+    Hm = dt * Ainv[:, 3:5]
+    K = dt * Ainv[3:5, 3:5] + ODE_CFM * np.eye(2)
+    cen = dt * Ainv[:, 0:2] @ S
     k3 = (K[0, 0], 0.5 * (K[0, 1] + K[1, 0]), K[1, 1])
     inverse = np.linalg.inv(np.array([[k3[0], k3[1]], [k3[1], k3[2]]]))
-    dz = authors.sensor_height(p) - authors.LIGHT_Z
     return Body(
         g=np.ascontiguousarray(G.ravel()),
         hm=np.ascontiguousarray(Hm.ravel()),
