@@ -106,6 +106,28 @@ def test_motor_solve_is_the_box_constrained_solution() -> None:
         assert abs(a - best[1]) < 1e-9 and abs(c - best[2]) < 1e-9
 
 
+def test_motor_solve_is_exact_where_the_wheels_couple_strongly() -> None:
+    """A body whose wheels couple almost rigidly (|k01| / k00 = 0.999, as with masses x 1e-6): the
+    sweeps do not settle in their budget, and the active-set solve gives the brute-force solution."""
+    from morphlearn.reduced.cpu import _k
+
+    k00, k01, k11 = 555.96, 555.40, 555.96
+    inv = np.linalg.inv(np.array([[k00, k01], [k01, k11]]))
+    kk = np.array([k00, k01, k11, inv[0, 0], inv[0, 1], inv[1, 1], 1 / k00, 1 / k11])
+    rng = np.random.default_rng(2)
+    t = BODY.max_torque
+    capped = 0
+    for r0, r1 in rng.normal(0, 5000.0, (500, 2)):
+        a, c = _k.motors(kk, r0, r1, t)
+        best = min(
+            (0.5 * (k00 * x * x + 2 * k01 * x * y + k11 * y * y) - r0 * x - r1 * y, x, y)
+            for x, y in _candidates(k00, k01, k11, r0, r1, t)
+        )
+        assert abs(a - best[1]) < 1e-9 * t and abs(c - best[2]) < 1e-9 * t
+        capped += abs(a) == t or abs(c) == t
+    assert capped > 100  # the capped cases, where the sweeps alone fall short, were exercised
+
+
 def _candidates(k00: float, k01: float, k11: float, r0: float, r1: float, t: float) -> list[tuple[float, float]]:
     out = []
     for sa, sb in itertools.product((None, -t, t), repeat=2):

@@ -34,6 +34,36 @@ def build(jit: Callable[..., Any]) -> Any:
     """The episode function compiled with ``jit`` (a numba decorator)."""
 
     @jit
+    def capped(kk, r0, r1, tmax):
+        """The same solution where the sweeps have not settled (a body whose wheels couple strongly,
+        |k01| / k00 near 1: the sweeps then converge too slowly), exactly: the active set (one torque
+        at a cap and the other free, or both at caps) that meets the optimality conditions."""
+        k00, k01, k11 = kk[0], kk[1], kk[2]
+        for which in range(4):  # one torque at a cap, the other free
+            if which < 2:
+                a = tmax if which == 0 else -tmax
+                b = (r1 - k01 * a) * kk[7]
+                g = k00 * a + k01 * b - r0
+                if -tmax <= b <= tmax and ((a > 0.0 and g <= 0.0) or (a < 0.0 and g >= 0.0)):
+                    return a, b
+            else:
+                b = tmax if which == 2 else -tmax
+                a = (r0 - k01 * b) * kk[6]
+                g = k01 * a + k11 * b - r1
+                if -tmax <= a <= tmax and ((b > 0.0 and g <= 0.0) or (b < 0.0 and g >= 0.0)):
+                    return a, b
+        for corner in range(4):  # both at caps
+            a = tmax if corner < 2 else -tmax
+            b = tmax if corner % 2 == 0 else -tmax
+            g0 = k00 * a + k01 * b - r0
+            g1 = k01 * a + k11 * b - r1
+            if ((a > 0.0 and g0 <= 0.0) or (a < 0.0 and g0 >= 0.0)) and (
+                (b > 0.0 and g1 <= 0.0) or (b < 0.0 and g1 >= 0.0)
+            ):
+                return a, b
+        return a, b
+
+    @jit
     def motors(kk, r0, r1, tmax):
         """The two motor torques: the solution of K lam = r with |lam_i| <= tmax (K symmetric positive
         definite; a torque at its cap where its row's solution would pass it). ``kk``: K's entries,
@@ -41,7 +71,8 @@ def build(jit: Callable[..., Any]) -> Any:
         steps: far from the light the motors hold their targets); else projected Gauss-Seidel to its
         fixed point: the wheels couple weakly through the chassis (|k01| / k00 ~ 1e-4 for the
         authors' robot), so two or three sweeps reach it to the last bit and the loop ends when a
-        sweep changes nothing (at most ``_SWEEPS``). The fixed point is the LCP's unique solution, the
+        sweep changes nothing (at most ``_SWEEPS``; unsettled, :func:`capped` solves it exactly). The
+        fixed point is the LCP's unique solution, the
         one ODE's Dantzig solver finds."""
         a = kk[3] * r0 + kk[4] * r1
         b = kk[4] * r0 + kk[5] * r1
@@ -54,10 +85,10 @@ def build(jit: Callable[..., Any]) -> Any:
             a1 = min(max((r0 - k01 * b) * kk[6], -tmax), tmax)
             b1 = min(max((r1 - k01 * a1) * kk[7], -tmax), tmax)
             if a1 == a and b1 == b:
-                break
+                return a, b
             a = a1
             b = b1
-        return a, b
+        return capped(kk, r0, r1, tmax)
 
     @jit
     def advance(
@@ -156,4 +187,4 @@ def build(jit: Callable[..., Any]) -> Any:
             )
         return hit, math.sqrt(best), steps, True
 
-    return types.SimpleNamespace(motors=motors, advance=advance, episode=episode)
+    return types.SimpleNamespace(motors=motors, capped=capped, advance=advance, episode=episode)
