@@ -196,3 +196,33 @@ def test_designs_top_of_a_survey_without_a_generalist(monkeypatch: pytest.Monkey
     top = {"bundle": "results/survey-mujoco", "model": "mujoco", "by": "M_CF", "n": 3}
     with pytest.raises(ConfigError, match=r"ode\.designs\.top_of: .* has no design with M_CF > 0"):
         _ode_config({"top_of": top})
+
+
+def test_designs_random_and_several_metrics() -> None:
+    """``designs: {random: {n, seed}}`` draws n distinct designs of the grid with numpy's
+    default_rng(seed) (a screen's check), ``top_of.by`` a list gives the union of each metric's n
+    best, and both keys together their union; n above the grid's size is a one-line error."""
+    from morphlearn import metrics, models
+    from morphlearn.config import ConfigError
+
+    pytest.importorskip("morphlearn.ode._core")
+    g = DesignGrid(N)
+    held = models.get("ode").settings(_ode_config({"random": {"n": 7, "seed": 3}}, include_mirrors=False)).held
+    want = np.random.default_rng(3).choice(g.size, 7, replace=False)
+    assert list(held) == sorted(int(d) for d in want) and len(set(held)) == 7
+    other = models.get("ode").settings(_ode_config({"random": {"n": 7, "seed": 4}}, include_mirrors=False)).held
+    assert list(other) != list(held)
+    with pytest.raises(ConfigError, match=r"ode\.designs\.random\.n = 626 exceeds the grid's 625 designs"):
+        _ode_config({"random": {"n": 626, "seed": 3}})
+    table = pd.read_csv(ROOT / "results/survey-mujoco/mujoco/metrics.csv", comment="#")
+    top = {"bundle": "results/survey-mujoco", "model": "mujoco", "by": ["M_L", "M_CF"], "n": 3}
+    by_l, by_cf = metrics.best_designs(table, "M_L", 3), metrics.best_designs(table, "M_CF", 3)
+    assert set(by_l) != set(by_cf)  # else the union below proves nothing
+    both = models.get("ode").settings(_ode_config({"top_of": top}, include_mirrors=False)).held
+    assert list(both) == sorted(set(by_l) | set(by_cf))
+    union = models.get("ode").settings(
+        _ode_config({"top_of": top, "random": {"n": 7, "seed": 3}}, include_mirrors=False)
+    ).held
+    assert list(union) == sorted(set(both) | set(held))
+    with pytest.raises(ConfigError, match=r"ode\.designs"):
+        _ode_config({})

@@ -23,7 +23,7 @@ OUT = ROOT / "config/README.md"
 #: is silently ignored by the validator.
 KEYWORDS = frozenset(
     "$schema type additionalProperties required properties default description minimum maximum "
-    "exclusiveMinimum exclusiveMaximum minLength enum const items minItems maxItems uniqueItems "
+    "exclusiveMinimum exclusiveMaximum minLength enum const items minItems maxItems minProperties uniqueItems "
     "oneOf anyOf".split()
 )
 

@@ -227,8 +227,19 @@ class Physics(Model):
         designs = sec.get("designs", "all")
         if designs == "all":
             return list(range(g.size))
-        if isinstance(designs, Mapping):  # {top_of: ...}: the best of a screening survey
-            idx = self._screened(designs["top_of"], g)
+        if isinstance(designs, Mapping):  # {top_of, random}: a screen's best and/or a random check
+            parts = [np.zeros(0, dtype=np.int64)]
+            if "top_of" in designs:
+                parts.append(self._screened(designs["top_of"], g))
+            if "random" in designs:
+                r = designs["random"]
+                if r["n"] > g.size:
+                    raise ConfigError(
+                        f"{self.name}.designs.random.n = {r['n']} exceeds the grid's {g.size} designs; "
+                        f"allowed: 1..{g.size}"
+                    )
+                parts.append(np.random.default_rng(r["seed"]).choice(g.size, r["n"], replace=False))
+            idx = np.concatenate(parts)
             if sec.get("include_mirrors", True):
                 idx = np.concatenate([idx, g.mirror(idx)])
             return sorted({int(x) for x in idx})
@@ -244,7 +255,7 @@ class Physics(Model):
         return sorted({int(x) for x in d})
 
     def _screened(self, top: Mapping[str, Any], g: DesignGrid) -> np.ndarray:
-        """``designs: {top_of: {bundle, model, by, n}}``: the ``n`` best designs by ``by`` of a
+        """``designs: {top_of: {bundle, model, by, n}}``: the ``n`` best designs by ``by`` (each of a list) of a
         committed survey of the same grid (screen with a cheaper engine, refine with this one;
         its table is checked against the bundle's record; designs with a positive value only, ties
         as :func:`metrics.best_designs`)."""
@@ -263,9 +274,13 @@ class Physics(Model):
             raise ConfigError(
                 f"{key}: {path} holds {len(table)} designs; allowed: a survey of every design of this grid ({g.size})"
             )
-        best = metrics.best_designs(table, top["by"], top["n"])
-        if not best:
-            raise ConfigError(f"{key}: {path} has no design with {top['by']} > 0; allowed: a survey with one")
+        by = [top["by"]] if isinstance(top["by"], str) else list(top["by"])
+        best = []
+        for b in by:  # a list of metrics: the union of each one's n best
+            one = metrics.best_designs(table, b, top["n"])
+            if not one:
+                raise ConfigError(f"{key}: {path} has no design with {b} > 0; allowed: a survey with one")
+            best += [d for d in one if d not in best]
         return np.array(best, dtype=np.int64)
 
     def _check_designs(self, sec: Mapping[str, Any], simulated: list[int]) -> None:
