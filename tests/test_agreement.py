@@ -220,9 +220,11 @@ def test_designs_random_and_several_metrics() -> None:
     assert set(by_l) != set(by_cf)  # else the union below proves nothing
     both = models.get("ode").settings(_ode_config({"top_of": top}, include_mirrors=False)).held
     assert list(both) == sorted(set(by_l) | set(by_cf))
-    union = models.get("ode").settings(
-        _ode_config({"top_of": top, "random": {"n": 7, "seed": 3}}, include_mirrors=False)
-    ).held
+    union = (
+        models.get("ode")
+        .settings(_ode_config({"top_of": top, "random": {"n": 7, "seed": 3}}, include_mirrors=False))
+        .held
+    )
     assert list(union) == sorted(set(both) | set(held))
     with pytest.raises(ConfigError, match=r"ode\.designs"):
         _ode_config({})
