@@ -12,11 +12,19 @@ in OUT (resumable: finished designs are kept).
 on the exhaustive outcomes in a merged store (e.g. ``results/ode-paper-run/ode/merged.zarr``, every
 cell simulated) at several ``--near`` values and lattice ``--stride`` values (``adaptive_stride``):
 the successes and generalists it would miss and the share of episodes it would simulate.
+``--screen SCREEN`` (a merged store of a cheaper model's outcomes of the same designs, e.g.
+``results/reduced-ode-paper/reduced/merged.zarr``) replays the grid with ``adaptive_screen``: its
+first wave also holds every cell the screen calls a success or a near miss.
+
+``compare NEW OLD``: two metrics tables of the same designs (a re-run with other levers, e.g.
+``results/ode-survey-missed/ode/metrics.csv``, against ``results/ode-survey/ode/metrics.csv``):
+generalists and controllers solving at least one light, per design, and what changed.
 
 Usage::
 
     python benchmarks/validate_ode_levers.py mirror OUT [--pairs 20] [--m 11] [--seed 0]
-    python benchmarks/validate_ode_levers.py adaptive results/ode-paper-run/ode/merged.zarr [--stride 2 4 6]
+    python benchmarks/validate_ode_levers.py adaptive STORE [--stride 2 4 6] [--screen S]
+    python benchmarks/validate_ode_levers.py compare NEW.csv OLD.csv
 """
 
 from __future__ import annotations
@@ -30,7 +38,7 @@ import numpy as np
 
 from morphlearn.grid import DesignGrid, weights
 from morphlearn.physics.params import load_params
-from morphlearn.physics.refine import misses
+from morphlearn.physics.refine import misses, screen_cells
 from morphlearn.store import mirror_arrays
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -105,6 +113,7 @@ def cmd_adaptive(a: argparse.Namespace) -> None:
     from morphlearn import store
 
     ds = store.open_merged(a.store)
+    screen = store.open_merged(a.screen) if a.screen else None
     body = load_params(ROOT / "config/authors_body.yaml")
     rows = []
     for d in ds.design.values:
@@ -112,13 +121,38 @@ def cmd_adaptive(a: argparse.Namespace) -> None:
         first, dist = sel.first_time.values, sel.min_dist.values
         if np.isnan(dist).any():
             raise SystemExit(f"{a.store}: design {int(d)} is not exhaustive (unsimulated cells)")
+        if screen is not None and int(d) not in set(screen.design.values.tolist()):
+            raise SystemExit(f"{a.screen}: holds no design {int(d)}")
         for stride in a.stride:
             for near in a.near:
-                r = misses(~np.isnan(first), dist, body.contact_distance, near, stride)
-                rows.append({"design": int(d), **r})
+                cells = None
+                if screen is not None:
+                    sc = screen.sel(design=d)
+                    cells = screen_cells(sc.first_time.values, sc.min_dist.values, body.contact_distance, near)
+                r = misses(~np.isnan(first), dist, body.contact_distance, near, stride, cells)
+                rows.append({"design": int(d), "screen": str(a.screen or ""), **r})
                 print(json.dumps(rows[-1]))
     if a.json:
         a.json.write_text(json.dumps(rows, indent=1) + "\n")
+
+
+def cmd_compare(a: argparse.Namespace) -> None:
+    import pandas as pd
+
+    new, old = (pd.read_csv(p, comment="#").set_index("design") for p in (a.new, a.old))
+    lost = sorted(set(new.index) - set(old.index))
+    if lost:
+        raise SystemExit(f"{a.old}: holds no design {lost[0]} of {a.new}")
+    cols = ["generalists", "at_least_one"]
+    both = new[cols].join(old[cols], rsuffix="_old")
+    for c in cols:
+        both[f"{c}_change"] = both[c] - both[f"{c}_old"]
+    print(both.to_string())
+    changed = both[(both.generalists_change != 0) | (both.at_least_one_change != 0)]
+    print(
+        f"{len(changed)} of {len(both)} designs changed; at_least_one +{int(both.at_least_one_change.sum())}, "
+        f"generalists +{int(both.generalists_change.sum())}"
+    )
 
 
 def main() -> None:
@@ -135,7 +169,12 @@ def main() -> None:
     ad.add_argument("--near", type=float, nargs="+", default=[1.5, 2.0, 3.0, 4.0])
     ad.add_argument("--stride", type=int, nargs="+", default=[2], help="lattice strides (adaptive_stride)")
     ad.add_argument("--json", type=Path)
+    ad.add_argument("--screen", type=Path, help="a merged store of a screen's outcomes (adaptive_screen)")
     ad.set_defaults(func=cmd_adaptive)
+    cp = sub.add_parser("compare")
+    cp.add_argument("new", type=Path)
+    cp.add_argument("old", type=Path)
+    cp.set_defaults(func=cmd_compare)
     a = ap.parse_args()
     a.func(a)
 

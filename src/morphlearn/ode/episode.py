@@ -37,10 +37,11 @@ def evaluate_design(
     progress: Callable[[int, int], None] | None = None,
     options: SweepOptions | None = None,
     partial: Path | None = None,
+    screen: np.ndarray | None = None,
 ) -> DesignResult:
     """All (env, w1, w2) episodes of one design; arrays (4, m, m) [env, i_w1, i_w2]: the physics
     layer's sweep (:func:`morphlearn.physics.sweep.sweep`: adaptive grid, resume from ``partial``)
-    over this engine's batches."""
+    over this engine's batches; ``screen``: cells its adaptive grid's first wave also simulates."""
     return authors_robot_design(
-        run, l1, l2, weights, params, progress, options, partial, where="in the ode model", chunk=CHUNK
+        run, l1, l2, weights, params, progress, options, partial, where="in the ode model", chunk=CHUNK, screen=screen
     )

@@ -29,6 +29,7 @@ class Ode(Physics):
     paper_engine = True
     figure_body = True  # Fig. 1C draws the robot the headline numbers use: the authors', in ODE
     resumes_inside_design = True  # ~30 core-minutes a design at 121 x 121: resume inside it
+    takes_screen = True  # its sweep is the physics layer's: adaptive_screen adds cells to the first wave
     levers_doc = "docs/ode.md"
 
     def parse(self, sec: Mapping[str, Any], shared: Shared) -> Any:

@@ -106,6 +106,9 @@ class Physics(Model):
     schema_like = "empirical"  # the physics section's keys (config_schema.yaml)
     #: The robots this engine builds (keys of ROBOT_BODIES); the first is the default.
     robots: ClassVar[tuple[str, ...]] = ("project",)
+    #: Its ``evaluate_design`` takes ``screen=`` (cells its adaptive grid's first wave also
+    #: simulates, from ``adaptive_screen``: :mod:`morphlearn.physics.screen`).
+    takes_screen: ClassVar[bool] = False
     #: Where the measured miss rate of its adaptive weight grid is documented (captions).
     levers_doc: ClassVar[str] = "docs/empirical_levers.md"
 
@@ -169,6 +172,8 @@ class Physics(Model):
         if simulates:
             self._check_designs(sec, simulated)
         options = SweepOptions.from_config(sec)
+        if simulates and options.screen is not None:
+            self._check_screen(options, grid.positions_per_axis, int(sec["weights"]), simulated)
         science = None
         if simulates:
             science = {
@@ -283,6 +288,18 @@ class Physics(Model):
             best += [d for d in one if d not in best]
         return np.array(best, dtype=np.int64)
 
+    def _check_screen(self, options: SweepOptions, positions: int, weights: int, simulated: list[int]) -> None:
+        from morphlearn.physics.screen import Screen
+
+        key = f"{self.name}.adaptive_screen"
+        if not self.takes_screen:
+            raise ConfigError(f"{key} is set, but the {self.name} model's sweep takes no screen; allowed: null")
+        if not options.adaptive_weights:
+            raise ConfigError(
+                f"{key} is set with {self.name}.adaptive_weights = false; allowed: null, or the adaptive grid on"
+            )
+        Screen(*options.screen, key).check(positions, weights, simulated)  # type: ignore[misc]
+
     def _check_designs(self, sec: Mapping[str, Any], simulated: list[int]) -> None:
         if sec.get("mirror_derive") and sec.get("designs") != "all" and not sec.get("include_mirrors", True):
             raise ConfigError(
@@ -394,17 +411,29 @@ class Physics(Model):
         if self.resumes_inside_design and s.design_cache and done:
             folder = design_cache.cache_dir(s.results_dir, self.name, self.science(s))
         out = []
+        screen = self._screen(e.options)
         for i, d in enumerate(tqdm(designs, unit="design", mininterval=1.0)):
             label = f"design {i + 1}/{len(designs)} (index {int(d)})"
             print(f"{label}: started", flush=True)  # the shard log is never silent for a whole design
             log = EpisodeProgress(label, at_most=e.options.adaptive_weights)
-            kw = {"partial": design_cache.partial_path(folder, int(d))} if folder else {}
+            kw: dict[str, Any] = {"partial": design_cache.partial_path(folder, int(d))} if folder else {}
+            if screen is not None:
+                kw["screen"] = screen(int(d), e.params)
             out.append(evaluate_design(*self.sensors(s, int(d)), w, e.params, progress=log, options=e.options, **kw))
             if done:
                 done(i, out[-1])  # stores the design (design_cache.save) ...
             if folder:
                 kw["partial"].unlink(missing_ok=True)  # ... so its partial file is no longer needed
         return out
+
+    def _screen(self, options: SweepOptions) -> Callable[[int, EmpiricalParams], np.ndarray] | None:
+        """``(design, params) -> cells`` of ``options.screen`` (None: no screen)."""
+        if options.screen is None:
+            return None
+        from morphlearn.physics.screen import Screen
+
+        sc = Screen(*options.screen, f"{self.name}.adaptive_screen")
+        return lambda d, p: sc.cells(d, p.contact_distance, options.near)
 
     @staticmethod
     def sensors(s: Settings, design: int) -> tuple[tuple[float, float], tuple[float, float]]:
@@ -429,13 +458,15 @@ class Physics(Model):
         options = SweepOptions.from_science(science)  # early stop, adaptive grid: as the run had them
         evaluate_design = self.robot_evaluator(science.get("robot", self.robots[0]))
         out, made = [], {}
+        screen = self._screen(options)
         for d in (int(x) for x in designs):
             # mirror_derive: the run simulated one of each mirror pair (the lower index) and derived
             # the other from it (store.merge_shards); an engine is symmetric only to tolerance
             src = min(d, int(g.mirror(d))) if science.get("mirror_derive") else d
             if src not in made:
                 c = g.coords(np.array([src]))[0]
-                made[src] = evaluate_design((c[0], c[1]), (c[2], c[3]), w, params, options=options)
+                kw = {} if screen is None else {"screen": screen(src, params)}
+                made[src] = evaluate_design((c[0], c[1]), (c[2], c[3]), w, params, options=options, **kw)
             r = made[src]
             if src != d:
                 r = DesignResult(**store.mirror_arrays({v: getattr(r, v) for v in store.VARS}))

@@ -6,6 +6,9 @@
   the one up to the stop.
 - ``adaptive_weights`` (an option, off by default; it can miss successes): simulate only the
   cells of the weight grid that :mod:`.refine` picks, the rest are inferred failures.
+- ``adaptive_screen`` (with the adaptive grid): a committed bundle of a cheaper model's outcomes of
+  the same designs (the reduced model's, for ODE); the grid's first wave also simulates every cell
+  it calls a success or a near miss (:func:`.refine.screen_cells`).
 
 Plain data (no pybullet): the config parses into it, the science record is made from it.
 """
@@ -29,6 +32,8 @@ class SweepOptions:
     adaptive_weights: bool = False
     stride: int = DEFAULT_STRIDE
     near: float = DEFAULT_NEAR
+    #: (bundle, model) of the screen whose successes and near misses join the first wave, or None
+    screen: tuple[str, str] | None = None
 
     @classmethod
     def from_config(cls, emp: dict[str, Any]) -> SweepOptions:
@@ -38,6 +43,7 @@ class SweepOptions:
             adaptive_weights=bool(emp.get("adaptive_weights", False)),
             stride=int(emp.get("adaptive_stride", DEFAULT_STRIDE)),
             near=float(emp.get("adaptive_near", DEFAULT_NEAR)),
+            screen=_screen(emp.get("adaptive_screen")),
         )
 
     @classmethod
@@ -52,6 +58,7 @@ class SweepOptions:
                 adaptive_weights=bool(ad),
                 stride=int(ad["stride"]) if ad else DEFAULT_STRIDE,
                 near=float(ad["near"]) if ad else DEFAULT_NEAR,
+                screen=_screen(ad.get("screen")) if ad else None,
             )
         except (TypeError, KeyError, ValueError) as e:
             raise ValueError(f"levers of the science record unreadable ({type(e).__name__}: {e})") from None
@@ -68,4 +75,10 @@ class SweepOptions:
             out["early_stop"] = {"margin": self.margin, "check_every": CHECK_EVERY}
         if self.adaptive_weights:
             out["adaptive_weights"] = {"stride": self.stride, "near": self.near}
+            if self.screen is not None:  # only when set: the digests of results made before hold
+                out["adaptive_weights"]["screen"] = {"bundle": self.screen[0], "model": self.screen[1]}
         return out
+
+
+def _screen(sec: Mapping[str, Any] | None) -> tuple[str, str] | None:
+    return None if not sec else (str(sec["bundle"]), str(sec["model"]))

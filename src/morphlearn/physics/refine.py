@@ -62,44 +62,60 @@ def refine_mask(success: np.ndarray, promising: np.ndarray, stride: int = DEFAUL
     return refine(m, lambda i, j: (bool(success[i, j]), bool(promising[i, j])), stride)
 
 
-def replay_mask(seeds: np.ndarray, stride: int = DEFAULT_STRIDE) -> np.ndarray:
+def replay_mask(seeds: np.ndarray, stride: int = DEFAULT_STRIDE, first: np.ndarray | None = None) -> np.ndarray:
     """:func:`refine_mask` for many maps at once (..., m, m), vectorised, from ``seeds`` =
     success | promising: the refinement explores exactly the 8-connected regions of seed cells
-    that touch the lattice and simulates them with a one-cell fringe, besides the lattice
-    (a test checks it equals :func:`refine_mask`)."""
+    that touch its first wave (the lattice, and ``first`` where given: a screen's cells, see
+    :func:`refine_waves`) and simulates them with a one-cell fringe, besides the first wave (a test
+    checks it equals :func:`refine_mask` and :func:`refine_waves`)."""
     from scipy import ndimage
 
     seeds = np.asarray(seeds, bool)
     m = seeds.shape[-1]
-    lat = lattice(m, stride)
+    start = np.broadcast_to(lattice(m, stride), seeds.shape)
+    if first is not None:
+        start = start | np.asarray(first, bool)
     out = np.empty(seeds.shape, bool)
-    flat_in, flat_out = seeds.reshape(-1, m, m), out.reshape(-1, m, m)
+    flat_in, flat_start, flat_out = seeds.reshape(-1, m, m), start.reshape(-1, m, m), out.reshape(-1, m, m)
     eight = np.ones((3, 3), bool)
     for k, s in enumerate(flat_in):
         lab, _ = ndimage.label(s, structure=eight)
-        hit = np.unique(lab[lat & s])
+        hit = np.unique(lab[flat_start[k] & s])
         reached = np.isin(lab, hit[hit > 0])
-        flat_out[k] = lat | ndimage.binary_dilation(reached, structure=eight)
+        flat_out[k] = flat_start[k] | ndimage.binary_dilation(reached, structure=eight)
     return out
 
 
 def simulated_mask(
-    success: np.ndarray, min_dist: np.ndarray, contact: float, near: float, stride: int = DEFAULT_STRIDE
+    success: np.ndarray,
+    min_dist: np.ndarray,
+    contact: float,
+    near: float,
+    stride: int = DEFAULT_STRIDE,
+    first: np.ndarray | None = None,
 ) -> np.ndarray:
-    """(4, m, m) cells the adaptive grid at ``near`` simulates, replayed on exhaustive outcomes."""
-    return replay_mask(success | (min_dist <= near * contact), stride)
+    """(4, m, m) cells the adaptive grid at ``near`` simulates, replayed on exhaustive outcomes
+    (``first``: the screen's cells its first wave also holds)."""
+    return replay_mask(success | (min_dist <= near * contact), stride, first)
 
 
 def misses(
-    success: np.ndarray, min_dist: np.ndarray, contact: float, near: float, stride: int = DEFAULT_STRIDE
+    success: np.ndarray,
+    min_dist: np.ndarray,
+    contact: float,
+    near: float,
+    stride: int = DEFAULT_STRIDE,
+    first: np.ndarray | None = None,
 ) -> dict[str, float]:
     """What the adaptive grid at ``near`` would have missed on exhaustive (4, m, m) outcomes
     (env, w1, w2) of one design, replayed without simulating (``min_dist`` as simulated with the
     same early-stop setting, so the replay makes the adaptive run's choices): the share of episodes
-    it simulates, the successes and the generalists it loses."""
-    simulated = simulated_mask(success, min_dist, contact, near, stride)
+    it simulates, the successes, the generalists and the controllers solving at least one
+    environment (M_CF's denominator) it loses. ``first``: a screen's cells (:func:`screen_cells`)."""
+    simulated = simulated_mask(success, min_dist, contact, near, stride, first)
     kept = success & simulated
     gen, gen_kept = success.all(axis=0), kept.all(axis=0)
+    one, one_kept = success.any(axis=0), kept.any(axis=0)
     return {
         "near": near,
         "stride": stride,
@@ -109,18 +125,36 @@ def misses(
         "successes_missed": int((success & ~simulated).sum()),
         "generalists": int(gen.sum()),
         "generalists_missed": int((gen & ~gen_kept).sum()),
+        "at_least_one": int(one.sum()),
+        "at_least_one_missed": int((one & ~one_kept).sum()),
     }
 
 
+def screen_cells(first_time: np.ndarray, min_dist: np.ndarray, contact: float, near: float) -> np.ndarray:
+    """The cells a screen (a cheaper model's outcomes of the same design, e.g. the reduced model's
+    for ODE) calls a success or a near miss: the adaptive grid's first wave also simulates them,
+    so an isolated success that no lattice cell or near miss touches is found where the screen
+    finds it. Cells the screen did not simulate (NaN) add nothing."""
+    with np.errstate(invalid="ignore"):
+        return ~np.isnan(first_time) | (min_dist <= near * contact)
+
+
 def refine_waves(
-    m: int, n_maps: int, simulate: Callable[[np.ndarray], tuple[np.ndarray, np.ndarray]], stride: int
+    m: int,
+    n_maps: int,
+    simulate: Callable[[np.ndarray], tuple[np.ndarray, np.ndarray]],
+    stride: int,
+    first: np.ndarray | None = None,
 ) -> np.ndarray:
     """:func:`morphlearn.physics.refine.refine` on ``n_maps`` (m, m) maps at once: each wave of
     every map is simulated in one call ``simulate(cells)`` (cells (k, 3) = map, i, j) returning
     ``(success, promising)``. The same cells as ``refine`` per map: ``refine`` too simulates a
-    whole wave before it looks at its outcomes. Returns the (n_maps, m, m) simulated mask."""
+    whole wave before it looks at its outcomes. ``first``: (n_maps, m, m) cells the first wave
+    holds besides the lattice (a screen's successes and near misses, :func:`screen_cells`).
+    Returns the (n_maps, m, m) simulated mask."""
     done = np.zeros((n_maps, m, m), bool)
-    wave = np.argwhere(np.broadcast_to(lattice(m, stride), (n_maps, m, m)))
+    start = np.broadcast_to(lattice(m, stride), (n_maps, m, m))
+    wave = np.argwhere(start if first is None else start | np.asarray(first, bool))
     while len(wave):
         done[tuple(wave.T)] = True
         ok, promising = simulate(wave)

@@ -5,6 +5,8 @@ levers live here once.
 - ``options.adaptive_weights``: the adaptive weight grid (:func:`morphlearn.physics.refine.refine_waves`,
   its lattice stride and near-miss radius from ``options``); cells it never simulates get
   ``STATUS_INFERRED`` and NaN arrays.
+- ``screen``: (4, m, m) cells the adaptive grid's first wave also simulates (a cheaper model's
+  successes and near misses of the same design, :func:`morphlearn.physics.refine.screen_cells`).
 - ``partial``: a file keeping the episodes done so far (saved every ``CHECKPOINT_S`` seconds and
   when the sweep stops on an error or a kill, :mod:`morphlearn.physics.partial`); a design resumes
   from it without simulating them again, to the same bytes (the adaptive grid chooses cells from
@@ -56,6 +58,7 @@ def sweep(
     progress: Callable[[int, int], None] | None = None,
     partial: Path | None = None,
     chunk: int | None = None,
+    screen: np.ndarray | None = None,
 ) -> DesignResult:
     """All (env, w1, w2) episodes of one design by ``batch``; arrays (4, m, m) [env, i_w1, i_w2].
     ``chunk``: episodes per batch call (progress and checkpoints between calls); None: a whole
@@ -92,7 +95,7 @@ def sweep(
 
     try:
         if options.adaptive_weights:
-            sim = refine_waves(m, 4, simulate, options.stride)
+            sim = refine_waves(m, 4, simulate, options.stride, screen)
             status[~sim] = STATUS_INFERRED
             first[~sim] = np.nan  # a partial file may hold cells this path never asks for
             dist[~sim] = np.nan
@@ -119,11 +122,13 @@ def authors_robot_design(
     *,
     where: str,
     chunk: int,
+    screen: np.ndarray | None = None,
 ) -> DesignResult:
     """A design's sweep for an engine of the authors' robot whose ``run(params, l1, l2, w, env)``
     gives :class:`morphlearn.physics.batch.Episodes` (ODE, the reduced model): every episode to its
     first success (no reach bound: it was derived for the project's body), the first success as a
-    time. ``where``: the engine, as the refusal of ``early_stop`` names it."""
+    time. ``where``: the engine, as the refusal of ``early_stop`` names it; ``screen``: cells the
+    adaptive grid's first wave also simulates (:func:`sweep`)."""
     options = without_reach_bound(options, where)
 
     def batch(w: np.ndarray, env: np.ndarray) -> SimpleNamespace:
@@ -131,7 +136,7 @@ def authors_robot_design(
         first = np.where(ep.success, ep.first_step * params.dt, np.nan)
         return SimpleNamespace(first_time=first, min_dist=ep.min_dist, finite=ep.finite)
 
-    return sweep(batch, l1, l2, weights, params, options, progress, partial, chunk=chunk)
+    return sweep(batch, l1, l2, weights, params, options, progress, partial, chunk=chunk, screen=screen)
 
 
 def without_reach_bound(options: SweepOptions | None, where: str) -> SweepOptions:

@@ -17,6 +17,7 @@ if TYPE_CHECKING:
 class Reduced(Physics):
     name = "reduced"
     engine = "reduced"
+    takes_screen = True  # its sweep is the physics layer's: adaptive_screen adds cells to the first wave
     engine_label = "reduced model"
     env_file = "envs/empirical.yaml"
     robots = ("authors",)
