@@ -176,3 +176,13 @@ def test_captions_say_what_is_drawn(rendered: Path) -> None:
     assert "forward = +x, to the right" in survey and "arrow" not in survey
     for fig in ("fig5", "fig6", "fig7", "survey"):
         assert (rendered / f"{fig}.png").stat().st_size > 20_000
+
+
+def test_a_long_engine_label_breaks_the_panel_title() -> None:
+    """Figs. 3 and 6 title a physics panel "<engine> (m x m), <what>"; one wider than the panel
+    (the reduced model's) goes on two lines, the engines' titles committed bundles hold stay on one."""
+    from morphlearn.figures import caption as cap
+
+    assert cap.title_head("pybullet (121 x 121)", "best by M_CF", 34) == "pybullet (121 x 121), best by M_CF"
+    assert cap.title_head("pybullet (121 x 121)", "best by M_L and M_CF", 42) == "pybullet (121 x 121), best by M_L and M_CF"
+    assert cap.title_head("reduced model (121 x 121)", "best by M_CF", 34) == "reduced model (121 x 121),\nbest by M_CF"

@@ -92,6 +92,13 @@ def caption(title: str, body: Sequence[str], provenance: str) -> str:
     return "\n\n".join(paras) + "\n"
 
 
+def title_head(short: str, what: str, width: int) -> str:
+    """A panel title's first line, ``short, what``, or two lines where it is wider than ``width``
+    characters (a long engine label, "reduced model (121 x 121)", would run past its panel)."""
+    one = f"{short}, {what}"
+    return one if len(one) <= width else f"{short},\n{what}"
+
+
 def design_text(row: pd.Series) -> str:
     """``l1 = (x, y), l2 = (x, y)`` of a metrics-table row."""
     return design_label(*row_design(row))
