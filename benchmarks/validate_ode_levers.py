@@ -144,7 +144,7 @@ def cmd_compare(a: argparse.Namespace) -> None:
     if lost:
         raise SystemExit(f"{a.old}: holds no design {lost[0]} of {a.new}")
     cols = ["generalists", "at_least_one"]
-    both = new[cols].join(old[cols], rsuffix="_old")
+    both = new[cols].merge(old[cols], left_index=True, right_index=True, suffixes=("", "_old"))
     for c in cols:
         both[f"{c}_change"] = both[c] - both[f"{c}_old"]
     print(both.to_string())

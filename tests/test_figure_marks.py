@@ -184,5 +184,6 @@ def test_a_long_engine_label_breaks_the_panel_title() -> None:
     from morphlearn.figures import caption as cap
 
     assert cap.title_head("pybullet (121 x 121)", "best by M_CF", 34) == "pybullet (121 x 121), best by M_CF"
-    assert cap.title_head("pybullet (121 x 121)", "best by M_L and M_CF", 42) == "pybullet (121 x 121), best by M_L and M_CF"
+    both = "best by M_L and M_CF"
+    assert cap.title_head("pybullet (121 x 121)", both, 42) == f"pybullet (121 x 121), {both}"
     assert cap.title_head("reduced model (121 x 121)", "best by M_CF", 34) == "reduced model (121 x 121),\nbest by M_CF"

@@ -6,6 +6,7 @@ workflow relies on (mirror symmetry to the bit, batch independence, the motor so
 from __future__ import annotations
 
 import itertools
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -17,6 +18,8 @@ from morphlearn.physics.params import load_params
 from morphlearn.reduced import body as bodymod
 from morphlearn.reduced.core import run
 from morphlearn.reduced.episode import evaluate_design
+
+ROOT = Path(__file__).resolve().parents[1]
 
 BODY = load_params("config/authors_body.yaml")
 CANONICAL = ((0.5, 0.5), (0.5, -0.5))
@@ -247,3 +250,25 @@ def test_the_workflow_runs_the_reduced_model_to_the_same_outcomes(tmp_path: obje
     row = t[t.design == d].iloc[0]
     assert [row.n_45, row.n_135, row.n_225, row.n_315] == succ.sum(axis=(1, 2)).tolist()
     assert row.generalists == int((met.overlap(succ) == 4).sum())
+
+
+def test_the_6561_design_map_holds_the_surveys_metrics_on_its_sub_grid() -> None:
+    """results/reduced-paper (every design of the 9-point grid) and results/reduced-survey (the
+    5-point grid's 625), the same model and levers, made apart: at the 625 designs they share, every
+    metric is equal; and the map's best design by both metrics is the paper's (or its mirror image)."""
+    import pandas as pd
+
+    def table(b: str) -> pd.DataFrame:
+        return pd.read_csv(ROOT / b / "reduced/metrics.csv", comment="#")
+
+    big, small = table("results/reduced-paper"), table("results/reduced-survey")
+    assert len(big) == 6561 and len(small) == 625
+    keys = ["l1x", "l1y", "l2x", "l2y"]
+    both = small.merge(big, on=keys, suffixes=("_s", "_p"))
+    assert len(both) == 625
+    for c in ("n_45", "n_135", "n_225", "n_315", "generalists", "at_least_one", "M_L", "M_CF"):
+        assert (both[f"{c}_s"] == both[f"{c}_p"]).all(), c
+    g = DesignGrid(9)
+    paper = g.index_of((-0.5, 0.125), (0.5, -0.375))
+    for by in ("M_L", "M_CF"):
+        assert int(metrics.rank_designs(big, by).design.iloc[0]) in (paper, int(g.mirror(paper)))
