@@ -737,7 +737,7 @@ def test_invalid_empirical_designs_says_what_is_allowed(designs: object) -> None
     msg = _one_line_config_error({"empirical": {**PHYSICS, "designs": designs}})
     assert msg.startswith("empirical.designs = ") and not msg.rstrip().endswith("allowed:"), msg
     assert 'allowed: "all" (every design of the grid), a list of designs [[x1, y1], [x2, y2]]' in msg, msg
-    assert "or {top_of: {bundle, model, by, n}}" in msg, msg
+    assert "{top_of: {bundle, model, by, n}}" in msg and "{random: {n, seed}}" in msg, msg
 
 
 def test_a_nested_config_value_given_on_the_command_line_is_said_to_arrive_as_a_string(wf: Path) -> None:
