@@ -120,13 +120,22 @@ def facts() -> list[float]:
     rt = _table("results/paper/reproduction.csv")
     out += [*rt.verdict.value_counts(), rt.verdict.notna().sum(), *rt.section.value_counts()]
     # the reduced model of the authors' robot against ODE (results/reduced-*, docs/reduced.md)
-    for rel in ("results/reduced-agreement-paper/agreement.csv", "results/reduced-agreement-survey/agreement.csv"):
+    for rel in (
+        "results/reduced-agreement-paper/agreement.csv",
+        "results/reduced-agreement-survey/agreement.csv",
+        "results/reduced-agreement-screened/agreement.csv",
+    ):
         if (ROOT / rel).is_file():
             ra = _table(rel)
             out += [*(100 * ra.cells_same), *ra.cells_compared, *ra.rho_M_L, *ra.rho_M_CF, *ra.rho_solved]
             out += [*(100 * ra.generalists_within_2), *ra.top10_M_L, *ra.top10_M_CF, *ra.canonical_rank_M_L]
             out += [*(100 * ra.with_generalist), *ra.best_M_L_rank_in_ode]
-    for rel in ("results/reduced-ode-paper/reduced/metrics.csv", "results/reduced-survey/reduced/metrics.csv"):
+    for rel in (
+        "results/reduced-ode-paper/reduced/metrics.csv",
+        "results/reduced-survey/reduced/metrics.csv",
+        "results/reduced-paper/reduced/metrics.csv",
+        "results/ode-screened-paper/ode/metrics.csv",
+    ):
         if (ROOT / rel).is_file():
             rt = _table(rel)
             out += [*rt.generalists[rt.generalists > 0], rt.generalists.max(), (rt.generalists > 0).sum()]
