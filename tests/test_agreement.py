@@ -228,3 +228,16 @@ def test_designs_random_and_several_metrics() -> None:
     assert list(union) == sorted(set(both) | set(held))
     with pytest.raises(ConfigError, match=r"ode\.designs"):
         _ode_config({})
+
+
+def test_sources_without_the_canonical_design_compare_without_its_rank() -> None:
+    """A screen's best designs or a random sample need not hold the canonical design: the
+    comparison says so (None, an empty cell in the table) instead of failing on it."""
+    rng = np.random.default_rng(4)
+    ml, mcf = rng.integers(0, 8, 625) / 121, rng.uniform(0, 0.5, 625)
+    canon = DesignGrid(N).index_of(*canonical_design())
+    ref, cand = _survey("ode", ml, mcf, {}), _survey("mujoco", ml, mcf, {}, robot="authors")
+    for s in (ref, cand):
+        s.table.drop(s.table.index[s.table.design == canon], inplace=True)
+    out = ag.compare(ref, cand)
+    assert out["canonical"] is None and out["rho_M_L"]["rho"] == pytest.approx(1.0)

@@ -218,14 +218,19 @@ def compare(ref: Survey, cand: Survey) -> dict[str, Any]:
     out["rho_solved"] = {"rho": r.rho, "lo": r.low, "hi": r.high}
     g = DesignGrid(int(ref.science["positions_per_axis"]))
     canon = int(g.index_of(*canonical_design()))
-    out["canonical"] = {
-        "design": canon,
-        **{f"rank_{m}_reference": _rank(ref.table, m, canon) for m in ("M_L", "M_CF")},
-        **{f"rank_{m}_candidate": _rank(cand.table, m, canon) for m in ("M_L", "M_CF")},
-        # designs sharing its M_L (its rank is shared with them)
-        "tied_M_L_reference": int((a.M_L == a.M_L[canon]).sum()) - 1,
-        "tied_M_L_candidate": int((b.M_L == b.M_L[canon]).sum()) - 1,
-    }
+    # None where the sources do not both hold it (a screen's best designs, a random sample)
+    out["canonical"] = (
+        {
+            "design": canon,
+            **{f"rank_{m}_reference": _rank(ref.table, m, canon) for m in ("M_L", "M_CF")},
+            **{f"rank_{m}_candidate": _rank(cand.table, m, canon) for m in ("M_L", "M_CF")},
+            # designs sharing its M_L (its rank is shared with them)
+            "tied_M_L_reference": int((a.M_L == a.M_L[canon]).sum()) - 1,
+            "tied_M_L_candidate": int((b.M_L == b.M_L[canon]).sum()) - 1,
+        }
+        if canon in a.index and canon in b.index
+        else None
+    )
     out["with_generalist"] = {
         "reference": float((a.generalists > 0).mean()),
         "candidate": float((b.generalists > 0).mean()),
@@ -317,8 +322,8 @@ def table(n: dict[str, Any]) -> pd.DataFrame:
                 "cells_compared": c["cells"]["cells"],
                 f"top{TOP}_M_L": c[f"top{TOP}_M_L"],
                 f"top{TOP}_M_CF": c[f"top{TOP}_M_CF"],
-                "canonical_rank_M_L": c["canonical"]["rank_M_L_candidate"],
-                "canonical_rank_M_L_ode": c["canonical"]["rank_M_L_reference"],
+                "canonical_rank_M_L": (c["canonical"] or {}).get("rank_M_L_candidate"),
+                "canonical_rank_M_L_ode": (c["canonical"] or {}).get("rank_M_L_reference"),
                 "with_generalist": c["with_generalist"]["candidate"],
                 "with_generalist_ode": c["with_generalist"]["reference"],
                 f"generalists_within_{GENERALIST_SLACK}": c["generalists_close"]["share"],
