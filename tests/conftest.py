@@ -41,6 +41,33 @@ WORKFLOW_FILES = (
 )
 
 
+def parse_at_root(cfg: dict) -> object:
+    """``configure.parse(cfg)`` run from the repository root: a config's bundle paths (top_of,
+    adaptive_screen, results_from) are relative to it, as in the workflow."""
+    from morphlearn import configure
+
+    cwd = Path.cwd()
+    os.chdir(ROOT)
+    try:
+        return configure.parse(cfg)
+    finally:
+        os.chdir(cwd)
+
+
+def ode_only_config(ode: dict, grid: dict | None = None) -> object:
+    """config.yaml with the ODE model alone on (theory, pybullet and figures off) and this ``ode``
+    section, parsed at the repository root (:func:`parse_at_root`); ``grid``: another design grid."""
+    from morphlearn import config
+
+    cfg = config.read(ROOT / "config.yaml")
+    cfg.update(results_dir="results/x", figures={"enabled": False}, empirical={"enabled": False})
+    if grid is not None:
+        cfg["grid"] = grid
+    cfg["theory"] = {**cfg["theory"], "enabled": False}
+    cfg["ode"] = {"enabled": True, **ode}
+    return parse_at_root(cfg)
+
+
 def copy_workflow(dest: Path) -> Path:
     """Copy what a user's clone holds (no results but the committed survey bundle, which the
     default config reads) into ``dest``."""

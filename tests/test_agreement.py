@@ -10,6 +10,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 import pytest
+from conftest import ode_only_config
 
 from morphlearn import agreement as ag
 from morphlearn.grid import DesignGrid, canonical_design
@@ -145,20 +146,7 @@ def test_uncommitted_code_is_refused_and_nothing_written(tmp_path: Path, monkeyp
 
 
 def _ode_config(designs: object, **extra: object) -> object:
-    from morphlearn import config, configure
-
-    cfg = config.read(ROOT / "config.yaml")
-    cfg.update(results_dir="results/x", figures={"enabled": False}, empirical={"enabled": False})
-    cfg["theory"] = {**cfg["theory"], "enabled": False}
-    cfg["ode"] = {"enabled": True, "weights": 3, "designs": designs, **extra}
-    cwd = Path.cwd()
-    import os
-
-    os.chdir(ROOT)
-    try:
-        return configure.parse(cfg)
-    finally:
-        os.chdir(cwd)
+    return ode_only_config({"weights": 3, "designs": designs, **extra})
 
 
 def test_designs_top_of_a_screening_survey() -> None:

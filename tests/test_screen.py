@@ -4,11 +4,11 @@ success no lattice cell touches is found; the replay equals the live refinement;
 
 from __future__ import annotations
 
-import os
 from pathlib import Path
 
 import numpy as np
 import pytest
+from conftest import ode_only_config, parse_at_root
 
 from morphlearn.config import ConfigError
 from morphlearn.grid import weights
@@ -73,14 +73,7 @@ def test_the_sweep_simulates_what_the_screen_flags() -> None:
 
 
 def _ode(**sec: object) -> object:
-    from morphlearn import config, configure
-
-    cfg = config.read(ROOT / "config.yaml")
-    cfg.update(results_dir="results/x", figures={"enabled": False}, empirical={"enabled": False})
-    cfg["grid"] = {"positions_per_axis": 9, "weights": 11}
-    cfg["theory"] = {**cfg["theory"], "enabled": False}
-    cfg["ode"] = {
-        "enabled": True,
+    ode = {
         "weights": 121,
         "designs": [[[-0.5, 0.125], [0.5, -0.375]]],  # the paper's best design (478), held by the screen
         "adaptive_weights": True,
@@ -89,12 +82,7 @@ def _ode(**sec: object) -> object:
         "include_mirrors": False,  # the screen holds the design, not its mirror image
         **sec,
     }
-    cwd = Path.cwd()
-    os.chdir(ROOT)
-    try:
-        return configure.parse(cfg)
-    finally:
-        os.chdir(cwd)
+    return ode_only_config(ode, grid={"positions_per_axis": 9, "weights": 11})
 
 
 def test_config_records_the_screen_and_refuses_bad_ones() -> None:
@@ -120,15 +108,10 @@ def test_config_records_the_screen_and_refuses_bad_ones() -> None:
 
 
 def test_an_engine_without_the_layers_sweep_refuses_a_screen() -> None:
-    from morphlearn import config, configure
+    from morphlearn import config
 
     cfg = config.read(ROOT / "config.yaml")
     cfg["empirical"] = {**cfg["empirical"], "enabled": True, "results_from": None, "adaptive_weights": True}
     cfg["empirical"]["adaptive_screen"] = SCREEN
-    cwd = Path.cwd()
-    os.chdir(ROOT)
-    try:
-        with pytest.raises(ConfigError, match=r"^empirical\.adaptive_screen is set, but the empirical model's sweep"):
-            configure.parse(cfg)
-    finally:
-        os.chdir(cwd)
+    with pytest.raises(ConfigError, match=r"^empirical\.adaptive_screen is set, but the empirical model's sweep"):
+        parse_at_root(cfg)

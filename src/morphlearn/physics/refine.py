@@ -34,6 +34,13 @@ def lattice(m: int, stride: int) -> np.ndarray:
     return on[:, None] & on[None, :]
 
 
+def first_wave(m: int, stride: int, shape: tuple[int, ...], first: np.ndarray | None = None) -> np.ndarray:
+    """The adaptive grid's first wave on maps of ``shape`` (..., m, m): the lattice on each, and the
+    cells of ``first`` (a screen's successes and near misses, :func:`screen_cells`) where given."""
+    start = np.broadcast_to(lattice(m, stride), shape)
+    return start if first is None else start | np.asarray(first, bool)
+
+
 def refine(m: int, simulate: Callable[[int, int], tuple[bool, bool]], stride: int = DEFAULT_STRIDE) -> np.ndarray:
     """Run the refinement; ``simulate(i, j)`` returns ``(success, promising)`` of cell (i, j).
     Returns the (m, m) mask of simulated cells. Deterministic: cells in row-major order per wave."""
@@ -72,9 +79,7 @@ def replay_mask(seeds: np.ndarray, stride: int = DEFAULT_STRIDE, first: np.ndarr
 
     seeds = np.asarray(seeds, bool)
     m = seeds.shape[-1]
-    start = np.broadcast_to(lattice(m, stride), seeds.shape)
-    if first is not None:
-        start = start | np.asarray(first, bool)
+    start = first_wave(m, stride, seeds.shape, first)
     out = np.empty(seeds.shape, bool)
     flat_in, flat_start, flat_out = seeds.reshape(-1, m, m), start.reshape(-1, m, m), out.reshape(-1, m, m)
     eight = np.ones((3, 3), bool)
@@ -153,8 +158,7 @@ def refine_waves(
     holds besides the lattice (a screen's successes and near misses, :func:`screen_cells`).
     Returns the (n_maps, m, m) simulated mask."""
     done = np.zeros((n_maps, m, m), bool)
-    start = np.broadcast_to(lattice(m, stride), (n_maps, m, m))
-    wave = np.argwhere(start if first is None else start | np.asarray(first, bool))
+    wave = np.argwhere(first_wave(m, stride, (n_maps, m, m), first))
     while len(wave):
         done[tuple(wave.T)] = True
         ok, promising = simulate(wave)
