@@ -86,13 +86,14 @@ def copy_workflow(dest: Path) -> Path:
 
 def paper_sources() -> list[str]:
     """The committed bundles config/paper.yaml reads besides results/paper itself (its physics at
-    121 x 121 and the 6561-design survey): a clone holds them, so a copy that parses that config
-    needs them too."""
+    121 x 121, the 6561-design survey, the screen and its refinement): a clone holds them, so a copy
+    that parses that config needs them too."""
     import yaml
 
     cfg = yaml.safe_load((ROOT / "config/paper.yaml").read_text())
     found = [(sec or {}).get("results_from") for sec in cfg.values() if isinstance(sec, dict)]
     found.append((cfg.get("survey_from") or {}).get("bundle"))
+    found += [(cfg.get("screen_from") or {}).get(k) for k in ("bundle", "refinement")]
     return sorted({p for p in found if p and p != "results/paper"})
 
 

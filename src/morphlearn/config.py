@@ -161,7 +161,16 @@ MAX_STRING = 4096
 UNSAFE_PATH_CHARS = "{}"
 #: Path keys that become Snakemake input or output paths (``scenario_file`` is read by Python only);
 #: each model declares its own (``Model.path_keys``), passed to :func:`validate`.
-PATH_KEYS = ("results_dir", "bundle_dir", "survey_from.bundle", "engines.pybullet", "engines.mujoco", "engines.theory")
+PATH_KEYS = (
+    "results_dir",
+    "bundle_dir",
+    "survey_from.bundle",
+    "screen_from.bundle",
+    "screen_from.refinement",
+    "engines.pybullet",
+    "engines.mujoco",
+    "engines.theory",
+)
 
 
 def check_path(key: str, value: str | None) -> None:

@@ -35,6 +35,37 @@ def _parse_survey(sec: Mapping[str, Any], grid: st.GridSettings) -> st.SurveySet
     return st.SurveySettings(bundle, name, MappingProxyType(th))
 
 
+def _parse_screen(sec: Mapping[str, Any], grid: st.GridSettings) -> st.ScreenSettings:
+    """The screen (every design of this grid, a physics model's) and its refinement (the paper's
+    engine at some designs of the same grid and weights), each checked by its model."""
+    if sec["bundle"] is None and sec["refinement"] is None:
+        return st.ScreenSettings()
+    if sec["bundle"] is None or sec["refinement"] is None:
+        given, other = ("bundle", "refinement") if sec["refinement"] is None else ("refinement", "bundle")
+        raise cfgmod.ConfigError(f"screen_from.{given} is set without screen_from.{other}; allowed: both, or neither")
+    physics = models.physics()
+    if sec["model"] not in physics:
+        raise cfgmod.ConfigError(f"screen_from.model = {sec['model']!r} is not a physics model; allowed: {physics}")
+    screen, paper = models.get(sec["model"]), models.get(physics[0])  # the paper's engine: the registry's first
+    assert isinstance(screen, Physics) and isinstance(paper, Physics)
+    n = grid.positions_per_axis
+    th, w, held = screen.check_results_bundle(sec["bundle"], n, key="screen_from.bundle", survey=True)
+    if len(held) != grid.designs.size:  # a survey of a coarser grid rules out none of this grid's other designs
+        raise cfgmod.ConfigError(
+            f"screen_from.bundle = {sec['bundle']!r} holds {len(held)} designs; allowed: every design of "
+            f"grid.positions_per_axis = {n} ({grid.designs.size})"
+        )
+    th_r, w_r, _ = paper.check_results_bundle(sec["refinement"], n, key="screen_from.refinement")
+    if w_r != w:
+        raise cfgmod.ConfigError(
+            f"screen_from.refinement = {sec['refinement']!r} holds {w_r} x {w_r} weights, the screen {w} x {w}; "
+            "allowed: the same weights"
+        )
+    return st.ScreenSettings(
+        sec["bundle"], sec["model"], MappingProxyType(th), sec["refinement"], paper.name, MappingProxyType(th_r)
+    )
+
+
 def parse(cfg: Mapping[str, Any]) -> st.Settings:
     """Validate ``cfg`` (defaults filled, cross-checks) and parse it into :class:`~morphlearn.settings.Settings`.
     Raises :class:`morphlearn.config.ConfigError` with a one-line message."""
@@ -70,6 +101,7 @@ def parse(cfg: Mapping[str, Any]) -> st.Settings:
         bundle_dir=v["bundle_dir"],
         bundle_designs=v["bundle_designs"],
         survey=_parse_survey(v["survey_from"], grid),
+        screen=_parse_screen(v["screen_from"], grid),
         scenarios=v["scenarios"],
         scenario_file=v["scenario_file"],
         render_only=bool(v["render_only"]),

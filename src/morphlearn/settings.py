@@ -137,6 +137,20 @@ class SurveySettings:
 
 
 @dataclass(frozen=True)
+class ScreenSettings:
+    """``screen_from``: a fast model's map of every design of the grid (``bundle``, ``model``) and
+    the paper's engine at its best designs (``refinement``, ``refinement_model``), each with the
+    thresholds its metrics were made with (None: no screen)."""
+
+    bundle: str | None = None
+    model: str = ""
+    thresholds: Mapping[str, float] | None = None
+    refinement: str | None = None
+    refinement_model: str = ""
+    refinement_thresholds: Mapping[str, float] | None = None
+
+
+@dataclass(frozen=True)
 class Shared:
     """The typed sections a model's parse may read besides its own (Model.parse)."""
 
@@ -165,6 +179,8 @@ class Settings:
     bundle_designs: str  # drawn | all: whose outcome arrays a bundle keeps
     #: the largest physics survey, read from its bundle (``survey_from``)
     survey: SurveySettings
+    #: the best-design claims answered by a screen and its refinement (``screen_from``)
+    screen: ScreenSettings
     scenarios: str | list[str] | None
     scenario_file: str
     render_only: bool

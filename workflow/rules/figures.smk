@@ -75,6 +75,8 @@ rule reproduction:
         ),
         # the physics survey read from its bundle (survey_from), when set
         survey=SURVEY_FILES,
+        # the screen and its refinement, read where they are (screen_from), when set
+        screen=figure_options.screen_files(S),
         # render_only: the stored persistence table, not integrated again
         stored_persistence=([f"{R}/persistence.csv"] if STORED_PERSISTENCE else []),
     output:
@@ -108,6 +110,7 @@ rule reproduction:
         settings=figure_options.trajectory_settings(S),
         thresholds={m: models.get(m).thresholds(S).__dict__ for m in MODELS},
         survey=figure_options.survey_option(S),
+        screen=figure_options.screen_option(S),
     script:
         "../scripts/reproduction.py"
 

@@ -21,6 +21,7 @@ table, persistence = build.run(
     p.learners,
     p.coopt,
     p.survey,
+    p.screen,
     stored_persistence=stored[0] if stored else None,
 )
 writers.write(table, out.csv, out.md, out.html, p.config_name)
@@ -30,4 +31,5 @@ if not stored:
 extra = [f"{s.results_dir}/learners/correlations.csv"] if p.learners else []
 extra += [f"{s.results_dir}/coopt/{n}.csv" for n in ("summary", "landscape")] if p.coopt is not None else []
 extra += [f"{s.results_dir}/{s.survey.folder}/metrics.csv"] if p.survey else []
-record.write_record(s.results_dir, list(p.thresholds), [out.csv, out.md, out.html, pers_path], extra)
+screen = [f"{b['bundle']}/{b['model']}/metrics.csv" for b in (p.screen or {}).values()]
+record.write_record(s.results_dir, list(p.thresholds), [out.csv, out.md, out.html, pers_path], extra, screen)

@@ -88,6 +88,30 @@ def survey_option(s: Settings) -> dict[str, Any] | None:
     return {"model": s.survey.model, "thresholds": dict(s.survey.thresholds or {})}
 
 
+def screen_option(s: Settings) -> dict[str, Any] | None:
+    """The screen and its refinement (``screen_from``): where each bundle is, its model and the
+    thresholds its metrics were made with, or None when the config sets none."""
+    c = s.screen
+    if not c.bundle:
+        return None
+    return {
+        "screen": {"bundle": c.bundle, "model": c.model, "thresholds": dict(c.thresholds or {})},
+        "refinement": {
+            "bundle": c.refinement,
+            "model": c.refinement_model,
+            "thresholds": dict(c.refinement_thresholds or {}),
+        },
+    }
+
+
+def screen_files(s: Settings) -> list[str]:
+    """What the screen rows read: each bundle's metrics table and manifest (empty: no screen)."""
+    opt = screen_option(s)
+    if opt is None:
+        return []
+    return [f"{b['bundle']}/{n}" for b in opt.values() for n in (f"{b['model']}/metrics.csv", "bundle.json")]
+
+
 def figure_options(s: Settings, fig: str) -> dict[str, Any]:
     """Notebook parameters of figure ``fig`` (registry: what it reads and takes).
 

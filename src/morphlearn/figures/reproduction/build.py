@@ -20,6 +20,20 @@ def persistence_counts(theory: fd.ModelResults, settings: fd.TheorySettings, nea
     return fd.persistence_table(fd.persistence_designs(theory), theory, settings, near, limit)
 
 
+def _screen(screen: dict[str, Any] | None) -> tuple[fd.ModelResults, fd.ModelResults] | None:
+    """(the screen, its refinement), each read from its bundle, its table checked against its record."""
+    if screen is None:
+        return None
+    out = []
+    for part in ("screen", "refinement"):
+        b = screen[part]
+        res = fd.load_results(b["bundle"], b["model"], b["thresholds"])
+        if res is None:
+            raise FileNotFoundError(f"screen_from: no {b['model']} results in {b['bundle']} (metrics.csv, merged.zarr)")
+        out.append(res)
+    return out[0], out[1]
+
+
 def run(
     results_dir: str,
     config_name: str,
@@ -30,12 +44,15 @@ def run(
     learners_enabled: bool = False,
     coopt_sigma: float | None = None,
     survey: dict[str, Any] | None = None,
+    screen: dict[str, Any] | None = None,
     stored_persistence: str | Path | None = None,
 ) -> tuple[pd.DataFrame, pd.DataFrame]:
     """Load the results of the models of ``thresholds`` (model -> its thresholds: the models this
     config runs) and build (reproduction table, persistence table). ``coopt_sigma``: the coopt
     stage ran (its rows use the evolution strategies at that step). ``survey``: the physics survey
-    read from a bundle (its model and thresholds; config ``survey_from``). ``stored_persistence``:
+    read from a bundle (its model and thresholds; config ``survey_from``). ``screen``: the screen
+    and its refinement, each a bundle with its model and thresholds (config ``screen_from``), read
+    where they are. ``stored_persistence``:
     a persistence table already made for these results (render_only; checked at start by
     :func:`morphlearn.rules.check_stored_persistence`), read instead of integrated again."""
     corr = None
@@ -60,6 +77,6 @@ def run(
         pers = persistence_counts(theory, fd.TheorySettings(**settings), near, limit)
     engines = {m: r for m, r in res.items() if m in physics_models()[1:] and r is not None}
     table = reproduction_table(
-        theory, emp, pers, config_name, near, corr, engines, coopt, fd.load_survey(results_dir, survey)
+        theory, emp, pers, config_name, near, corr, engines, coopt, fd.load_survey(results_dir, survey), _screen(screen)
     )
     return table, pers

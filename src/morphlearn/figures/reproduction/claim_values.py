@@ -90,7 +90,7 @@ def _persistence(pers: pd.DataFrame | None, label: str, rule: str, scope: Scope)
     return Ours(f"{stays} of {len(sub)}", NOTE_SEP.join(x for x in (rule, spread) if x), stays / len(sub), scope)
 
 
-def _is_among(res: fd.ModelResults, top: pd.Series, design: fd.Design, by: str) -> bool:
+def is_among(res: fd.ModelResults, top: pd.Series, design: fd.Design, by: str) -> bool:
     """``design`` or its mirror image is among the designs tied with ``top`` by ``by``."""
     tied = {fd.row_design(r) for _, r in res.tied_with(top, by).iterrows()}
     grid = gridmod.DesignGrid(res.positions_per_axis or 0)
@@ -139,7 +139,7 @@ def theory_values(res: fd.ModelResults, pers: pd.DataFrame | None, near: float) 
     out["theory_best_design"] = Ours(
         f"{fd.design_label(*fd.row_design(top))}, M_L = {top.M_L:.4g}{rank}",
         f"{ties} design(s) share the highest M_L (a mirror pair counts 2)",
-        _is_among(res, top, fd.PAPER_BEST_DESIGN, "M_L"),
+        is_among(res, top, fd.PAPER_BEST_DESIGN, "M_L"),
         whole,
     )
     full = t[np.isclose(t.M_CF, 1.0)]
@@ -205,7 +205,7 @@ def physics_values(res: fd.ModelResults, others: Sequence[fd.ModelResults] = ())
                 f"{pb[by]:.4g} at the paper's best design ({frac(g, m2)}); {also}", "", float(pb[by]), per_design
             )
     out["empirical_best_design"] = Ours(
-        fd.design_label(*fd.row_design(top)), subset, _is_among(res, top, PAPER_PHYSICS_BEST_DESIGN, "M_L"), whole
+        fd.design_label(*fd.row_design(top)), subset, is_among(res, top, PAPER_PHYSICS_BEST_DESIGN, "M_L"), whole
     )
     same = fd.row_design(top) == fd.row_design(top_cf)
     out["empirical_best_on_both"] = Ours(

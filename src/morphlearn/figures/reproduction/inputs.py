@@ -26,3 +26,5 @@ class TableInputs:
     coopt: tuple[pd.DataFrame, pd.DataFrame, float] | None = None
     #: the physics survey read from a bundle (config survey_from)
     survey: fd.ModelResults | None = None
+    #: the screen (every design, a fast model's) and its refinement (the paper's engine at its best)
+    screen: tuple[fd.ModelResults, fd.ModelResults] | None = None

@@ -26,6 +26,7 @@ class Stage:
 
 STAGES: dict[str, Stage] = {
     "survey": Stage("a physics survey of every design: the claims that need all designs; theory vs physics"),
+    "screen": Stage("a fast model's map of every design and the paper's engine at its best: which design is best"),
     "refined": Stage("the reference engine's designs at 121 x 121: how the theory's best designs do"),
     "engines": Stage("each further physics engine: its survey or refined rows, and its agreement"),
     "learners": Stage("the learner stage: do M_L and M_CF predict learning (issue 15)"),

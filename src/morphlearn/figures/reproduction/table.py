@@ -99,13 +99,15 @@ def reproduction_table(
     engines: dict[str, fd.ModelResults] | None = None,
     coopt: tuple[pd.DataFrame, pd.DataFrame, float] | None = None,
     survey: fd.ModelResults | None = None,
+    screen: tuple[fd.ModelResults, fd.ModelResults] | None = None,
 ) -> pd.DataFrame:
     """The table: the theory's claims, then the physics claims for each engine held (ODE first;
     ``empirical`` is the reference engine's results, ``engines`` the others'), then the rows
     beyond the paper of every registered stage: the physics survey read from a bundle
     (``survey``, config ``survey_from``), each further engine's survey and agreement rows, the
     learner rows when ``learners`` (learners/correlations.csv) is given, the coopt stage's when
-    ``coopt`` (its summary, landscape table and step) is given."""
+    ``coopt`` (its summary, landscape table and step) is given, the screen's when ``screen`` (a
+    fast model's map of every design and the paper's engine at its best, config ``screen_from``)."""
     engines = engines or {}
     rows = []
     said = {} if theory is None else theory_values(theory, persistence, near)
@@ -128,7 +130,7 @@ def reproduction_table(
     if not judges:  # the paper's physics claims, unanswered in this run
         rows += [claim_row(c, "physics", None, config_name) for c in CLAIMS if c.model == "physics"]
     rows += other_rows
-    inputs = TableInputs(theory, empirical, persistence, config_name, near, learners, engines, coopt, survey)
+    inputs = TableInputs(theory, empirical, persistence, config_name, near, learners, engines, coopt, survey, screen)
     for name in stage_registry.STAGES:
         rows += [{"section": BEYOND_SECTION, **r} for r in stage_registry.rows_of(name)(inputs)]
     return pd.DataFrame(rows, columns=COLUMNS).fillna("")
