@@ -140,6 +140,15 @@ def facts() -> list[float]:
             rt = _table(rel)
             out += [*rt.generalists[rt.generalists > 0], rt.generalists.max(), (rt.generalists > 0).sum()]
             out += [100 * (rt.generalists > 0).mean()]
+    # the best design as screened (docs/results.md; the table's screen rows, tests/test_screen_rows.py)
+    from morphlearn.figures.reproduction.stages.screen import ruled_out
+
+    rp, osp = _table("results/reduced-paper/reduced/metrics.csv"), _table("results/ode-screened-paper/ode/metrics.csv")
+    for by in ("M_L", "M_CF"):
+        r = ruled_out(rp, osp, by)
+        out += [r.margin, r.best_outside[by], r.best_outside[by] + r.margin, r.margin * 121**2]
+    out += [osp.generalists.max() - rp[~rp.design.isin(osp.design)].generalists.max()]
+    out += [(_table("results/reduced-survey/reduced/metrics.csv").generalists - sv.generalists).abs().max()]
     # the project's body: refine bundles, the MuJoCo 6561-design survey, pybullet against MuJoCo
     for t in (pb, mj):
         for d in (CANONICAL, BEST_OUR_BODY):

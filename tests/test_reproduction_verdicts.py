@@ -34,7 +34,7 @@ CONFIG = "config.yaml + paper.yaml"
 @pytest.fixture(scope="module")
 def table() -> pd.DataFrame:
     """The table results/paper's reproduction rule makes (config/paper.yaml: theory, pybullet,
-    MuJoCo, ODE, the ODE survey read from a bundle; the stored persistence table)."""
+    MuJoCo, ODE, the ODE survey read from a bundle, the screen; the stored persistence table)."""
     made, _ = build.run(
         str(BUNDLE),
         CONFIG,
@@ -43,6 +43,10 @@ def table() -> pd.DataFrame:
         1.0,
         35,
         survey={"model": "ode", "thresholds": None},
+        screen={  # config/paper.yaml's screen_from: the reduced model's map, ODE at its best designs
+            "screen": {"bundle": str(ROOT / "results/reduced-paper"), "model": "reduced", "thresholds": None},
+            "refinement": {"bundle": str(ROOT / "results/ode-screened-paper"), "model": "ode", "thresholds": None},
+        },
         stored_persistence=BUNDLE / "persistence.csv",
     )
     return made
@@ -62,7 +66,12 @@ def test_only_the_paper_robot_in_its_engine_is_judged_and_the_header_says_what_h
     assert table.key.is_unique
     paper = table[table.section == PAPER]
     # the theory and the authors' robot in ODE (its refined designs and its survey), nothing else
-    assert set(paper.model) == {"theory", "ODE (the paper's engine)", "ODE (the paper's engine): survey"}
+    assert set(paper.model) == {
+        "theory",
+        "ODE (the paper's engine)",
+        "ODE (the paper's engine): survey",
+        "ODE (the paper's engine): screened",
+    }
     other = table[table.section == OTHER_ROBOT]
     physics = [c for c in claims.CLAIMS if c.model == "physics"]
     assert len(other) == 2 * len(physics)  # pybullet's and MuJoCo's answers, apart
@@ -81,20 +90,23 @@ def test_only_the_paper_robot_in_its_engine_is_judged_and_the_header_says_what_h
     # the counts of the committed bundle's inputs: before issue 59, 13 reproduced, 17 differ,
     # 12 not comparable of 42, 10 of the 17 "differ" pybullet's and MuJoCo's
     c = writers.counts(table)
-    assert c["all"] == {REPRODUCED: 14, DIFFERS: 7, NOT_COMPARABLE: 3}
+    assert c["all"] == {REPRODUCED: 16, DIFFERS: 7, NOT_COMPARABLE: 3}
+    # the best-design claims over all 6561 designs: not comparable from ODE's own 10 designs, judged
+    # by the screen (issue 56: every design outside ODE's 22 ruled out by the reduced model's map)
+    assert c["ODE (the paper's engine): screened"] == {REPRODUCED: 2, DIFFERS: 0, NOT_COMPARABLE: 0}
     assert c["ODE (the paper's engine)"] == {REPRODUCED: 7, DIFFERS: 0, NOT_COMPARABLE: 2}
     assert c["theory"] == {REPRODUCED: 6, DIFFERS: 7, NOT_COMPARABLE: 0}
     md = writers.to_markdown(table, CONFIG)
     head = md.split("## The paper's claims")[0]
-    assert "**14 reproduced, 7 differ, 3 not comparable** of 24 rows" in head
+    assert "**16 reproduced, 7 differ, 3 not comparable** of 26 rows" in head
     assert "Another 18 rows give the paper's physics claims as pybullet and MuJoCo answer them" in head
     assert f"## {writers.OTHER_HEADING}" in md
     # the claims table numbers only the judged rows; the other engines' rows are in their own table
     claims_md = md.split("## The paper's claims")[1].split(f"## {writers.OTHER_HEADING}")[0]
-    assert len(re.findall(r"^\| \d+ \|", claims_md, flags=re.M)) == len(paper) == 24
+    assert len(re.findall(r"^\| \d+ \|", claims_md, flags=re.M)) == len(paper) == 26
     assert "pybullet" not in claims_md and "MuJoCo" not in claims_md
     page = writers.to_html(table, CONFIG)
-    assert writers.OTHER_HEADING.replace("'", "&#x27;") in page and page.count('<td class="num">') == 24
+    assert writers.OTHER_HEADING.replace("'", "&#x27;") in page and page.count('<td class="num">') == 26
 
 
 def test_a_value_shown_twice_has_one_verdict(table: pd.DataFrame) -> None:
