@@ -49,6 +49,9 @@ CHUNK_VARS: dict[str, np.dtype] = {
 #: The identity's keys that say what was simulated; every other key names the engine and its
 #: version as recorded when the folder was made (kept as history, never compared with this machine).
 CORE_KEYS = frozenset({"format", "design", "weights", "weights_sha256", "params", "levers", "chunk"})
+#: The engine of a folder whose manifest names none: folders made before the engine choice existed
+#: (a recorded fact of that history, not an engine choice of this code).
+UNNAMED_ENGINE = "pybullet"
 
 
 class RefineError(Exception):
@@ -68,9 +71,8 @@ class Job:
     m: int
     params: EmpiricalParams
     options: SweepOptions
-    #: The engine that simulated it (``pybullet`` when the manifest names none: folders made before
-    #: the engine choice existed).
-    engine: str = "pybullet"
+    #: The engine that simulated it (:data:`UNNAMED_ENGINE` when the manifest names none).
+    engine: str = UNNAMED_ENGINE
     #: The engine's version and settings as recorded (part of the run key).
     engine_identity: dict[str, Any] = field(default_factory=dict, compare=False)
 
@@ -114,7 +116,7 @@ def job_from_manifest(man: dict[str, Any]) -> Job:
         m=int(ident["weights"]),
         params=EmpiricalParams.from_mapping(ident["params"]),
         options=opts,
-        engine=ident.get("engine", "pybullet"),
+        engine=ident.get("engine", UNNAMED_ENGINE),
         engine_identity={k: v for k, v in ident.items() if k not in CORE_KEYS},
     )
 
