@@ -141,7 +141,7 @@ def test_the_refine_folders_from_uncommitted_code_equal_their_clean_remake() -> 
     """The three exhaustive MuJoCo folders of results/refine whose manifests name a '-dirty' commit
     (made by the tool before the workflow could) are kept as made, and vouched for by their re-make
     at a clean commit, results/refine-exhaustive-mujoco: every cell of the three arrays the same."""
-    from morphlearn import resumable
+    from morphlearn import refine_folder
     from morphlearn.figures import data as fd
 
     dirty = sorted(
@@ -151,9 +151,9 @@ def test_the_refine_folders_from_uncommitted_code_equal_their_clean_remake() -> 
     remake = fd.load_results(ROOT / "results/refine-exhaustive-mujoco", "mujoco")  # custody-checked
     assert remake is not None
     for name in dirty:
-        a = resumable.assemble(ROOT / "results/refine" / name)
+        a = refine_folder.assemble(ROOT / "results/refine" / name)
         assert a.complete, name
-        job = resumable.job_from_manifest(a.manifest)
+        job = refine_folder.job_from_manifest(a.manifest)
         ref = store.read_design(remake.ds, remake.position(job.l1, job.l2, why=name))
         for k in store.VARS:
             got = np.asarray(getattr(a.result, k))

@@ -348,32 +348,16 @@ def project(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> Path:
         ("results/link/x", "is a symbolic link out of results/"),
     ],
 )
-def test_refine_export_writes_only_where_it_may(
-    project: Path, dest: str, needle: str, capsys: pytest.CaptureFixture
-) -> None:
-    """morphlearn refine export results/refine/canonical_121 DEST: exited 0 and wrote into a
-    committed bundle, src/, tools/ and .git/."""
+def test_the_write_guard_refuses_where_no_writer_may_write(project: Path, dest: str, needle: str) -> None:
+    """The guard of every writer (config.write_refusal: results_dir, bundle_dir; once also
+    ``morphlearn refine export``, which exited 0 and wrote into a committed bundle, src/, tools/ and
+    .git/): each of those places is refused, saying why."""
+    from morphlearn.config import write_refusal
+
     os.symlink("/proc", project / "results/link")  # not /etc: main wrote through it (as root)
-    before = _digests(project)
-    rc = cli.main(["refine", "export", "results/refine/canonical_121", dest])
-    err = capsys.readouterr().err
-    assert rc == 2 and len(err.strip().splitlines()) == 1 and needle in err and "nothing was written" in err, err
-    assert "allowed: a folder of your own under results/" in err, err
-    assert _digests(project) == before and not (project / dest / "rows").exists()
-
-
-def test_refine_export_still_exports(project: Path, capsys: pytest.CaptureFixture) -> None:
-    for dest in ("results/my-export", "results/refine/canonical_121"):  # a new folder, and in place
-        assert cli.main(["refine", "export", "results/refine/canonical_121", dest]) == 0
-    assert (project / "results/my-export/rows").is_dir()
-
-
-def test_refine_assemble_write_refuses_a_bundle(project: Path, capsys: pytest.CaptureFixture) -> None:
-    shutil.copytree(project / "results/refine/canonical_121", project / "results/survey/r")
-    rc = cli.main(["refine", "assemble", "--write", "results/survey/r"])
-    err = capsys.readouterr().err
-    assert rc == 2 and "is inside the results bundle" in err, err
-    assert not (project / "results/survey/r/result.npz").exists()
+    why = write_refusal(dest)
+    assert why is not None and needle in why, why
+    assert write_refusal("results/my-export") is None  # a folder of your own under results/ is allowed
 
 
 @pytest.mark.parametrize(
@@ -458,12 +442,10 @@ def test_the_workflow_refuses_them_before_planning_a_job(tmp_path: Path, committ
 
 @pytest.mark.parametrize("out", ["src/morphlearn/b", "tools/b", ".git/b", "/proc/b", "results/link/b"])
 def test_the_other_bundle_writers_share_the_guard(project: Path, out: str, capsys: pytest.CaptureFixture) -> None:
-    """Any other writer: a refine bundle's --out and a scenario bundle's folder (one guard)."""
-    from morphlearn import refine_bundle, resumable, scenario_bundle
+    """Any other writer: a scenario bundle's folder (one guard)."""
+    from morphlearn import scenario_bundle
 
     os.symlink("/proc", project / "results/link")
-    with pytest.raises(resumable.RefineError, match="nothing was written; allowed: a folder of your own"):
-        refine_bundle.check_target(Path(out), "empirical")
     assert scenario_bundle.main(["build", "results/scenarios", out]) == 2
     assert "nothing was written" in capsys.readouterr().out
     assert not Path(out).exists()

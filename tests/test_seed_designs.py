@@ -15,7 +15,7 @@ if not core.available():  # CI and tools/setup.sh install libode-dev; elsewhere 
 
 from morphlearn import config as cfgmod  # noqa: E402
 from morphlearn import configure, design_cache, models, store  # noqa: E402
-from morphlearn import resumable as rz  # noqa: E402
+from morphlearn import refine_folder as rz  # noqa: E402
 from morphlearn.ode import episode  # noqa: E402
 from morphlearn.results import STATUS_INFERRED, DesignResult  # noqa: E402
 from morphlearn.seed import seed_designs  # noqa: E402

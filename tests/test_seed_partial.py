@@ -1,4 +1,5 @@
-"""An exhaustive refine folder seeds a workflow design's partial file (morphlearn.seed):
+"""An exhaustive refine folder (the committed format, morphlearn.refine_folder) seeds a workflow
+design's partial file (morphlearn.seed):
 the workflow's adaptive run then simulates only the cells of its path the folder lacks, to the
 bytes of a run that had no file."""
 
@@ -10,12 +11,14 @@ from typing import Any
 import numpy as np
 import pytest
 from conftest import counting_runs
+from refine_folders import write_folder
 
 pytest.importorskip("pybullet")
 
 from morphlearn import config as cfgmod
 from morphlearn import configure, design_cache, models
-from morphlearn import resumable as rz
+from morphlearn import refine_folder as rz
+from morphlearn.empirical import evaluate_design
 from morphlearn.physics.options import SweepOptions
 from morphlearn.physics.params import load_params
 from morphlearn.results import STATUS_INFERRED, DesignResult
@@ -47,16 +50,22 @@ def _settings(tmp: Path, **emp: Any) -> Settings:
 
 
 def _folder(tmp: Path, max_rows: int | None = None, **job: Any) -> Path:
+    """A folder of the canonical design's exhaustive episodes (early stop on, as the old runner
+    made them; its rows were evaluate_design's bit for bit), holding its first ``max_rows`` rows
+    in the runner's order (0, 4, 2, 1, 3)."""
     kw: dict[str, Any] = {
         "l1": L1,
         "l2": L2,
         "m": 5,
         "params": load_params(BODY).replace(steps=STEPS),
         "options": SweepOptions(early_stop=True),
+        "engine_identity": {"pybullet": "test"},
     }
-    out = tmp / "folder"
-    rz.run(out, rz.Job(**{**kw, **job}), body_file=BODY, log=lambda m: None, max_rows=max_rows)
-    return out
+    j = rz.Job(**{**kw, **job})
+    r = evaluate_design(j.l1, j.l2, j.weights, j.params, options=j.options)
+    arrays = {k: getattr(r, k) for k in ("first_time", "min_dist", "status")} | {"steps": np.zeros((4, 5, 5))}
+    rows = [0, 4, 2, 1, 3][:max_rows]
+    return write_folder(tmp / "folder", j, arrays, rows=rows, body_file=BODY)
 
 
 def _evaluate(s: Settings, monkeypatch: pytest.MonkeyPatch) -> tuple[DesignResult, int]:
@@ -140,8 +149,26 @@ def test_seed_refuses_another_body_weights_levers_or_design(tmp_path: Path) -> N
 def test_seed_takes_the_model_from_the_folders_engine(tmp_path: Path) -> None:
     """A MuJoCo folder is refused as MuJoCo's (no partial designs), not as a config that does not
     simulate pybullet (the message named the wrong model before)."""
-    pytest.importorskip("mujoco")
-    folder = _folder(tmp_path, max_rows=1, engine="mujoco")
+    folder = _folder(tmp_path, max_rows=1, engine="mujoco", engine_identity={"engine": "mujoco"})
     refused = r"model 'mujoco' keeps no partial designs; allowed: \['empirical', 'ode'\]"
     with pytest.raises(rz.RefineError, match=refused):
         seed(folder, _settings(tmp_path))
+
+
+def test_status_of_a_run_says_what_its_design_cache_holds(tmp_path: Path) -> None:
+    """``morphlearn refine status --configfile``: a run's designs finished, and the episodes a
+    design in progress holds (here: seeded from a folder), from its design cache."""
+    from morphlearn.refine_cli import run_progress
+
+    s = _settings(tmp_path)
+    model = models.get("empirical")
+    d = int(model.designs(s)[0])
+    assert "empirical: 0 of 1 designs finished in " in run_progress(s)[0]
+    assert not any(ln.startswith("  design") for ln in run_progress(s))
+    got = seed(_folder(tmp_path, max_rows=2), s)
+    assert f"  design {d}: in progress, 40 of 100 episodes in {got.path.name}" in run_progress(s)
+    got.path.write_bytes(b"damaged")
+    assert f"  design {d}: {got.path.name} is unreadable or another run's (not used" in " ".join(run_progress(s))
+    design_cache.design_path(got.path.parent, d).write_bytes(b"stored")
+    lines = [ln for ln in run_progress(s) if "empirical" in ln or ln.startswith("  design")]
+    assert len(lines) == 1 and "empirical: 1 of 1 designs finished" in lines[0], lines

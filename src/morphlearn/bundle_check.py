@@ -370,9 +370,7 @@ def _commits(manifest: dict[str, Any]) -> dict[Any, str]:
     for where, by in sims:
         for part in ("git_commits", "design_commits"):
             for key in _dict(_dict(by).get(part)):
-                # a refine bundle's shard names the commits of its rows joined (refine_bundle.build)
-                for c in key.split(" + ") if isinstance(key, str) else [key]:
-                    named.setdefault(c, f"{where}.{part}")
+                named.setdefault(key, f"{where}.{part}")
     return named
 
 
@@ -426,14 +424,10 @@ def command_problems(manifest: dict[str, Any], notes: list[str]) -> list[str]:
 
     by = manifest["made_by"]
     commit = by.get("git_commit") if isinstance(by.get("git_commit"), str) else None
-    from morphlearn.refine_bundle import TOOL
 
     out = []
-    tool = by.get("tool")
-    if tool is not None and tool != TOOL:
-        return [f"made_by.tool = {shown(str(tool))}; allowed: {TOOL!r} (a refine bundle) or none (the workflow's)"]
-    if tool and by.get("configs") not in (None, []):
-        return [f"made_by.configs = {shown(str(by.get('configs')))}; allowed: [] (a refine bundle reads no config)"]
+    if "tool" in by:  # every bundle is made by the workflow's rules (issue 58: one results pipeline)
+        return [f"made_by.tool = {shown(str(by['tool']))}; allowed: none (a bundle the workflow made)"]
     configs = by.get("configs")
     if configs is not None:
         if not isinstance(configs, list) or not all(isinstance(c, str) and CONFIG_NAME.fullmatch(c) for c in configs):
@@ -452,18 +446,17 @@ def command_problems(manifest: dict[str, Any], notes: list[str]) -> list[str]:
         except ValueError:
             words = []
         bad = next((w for w in words if not SAFE_WORD.fullmatch(w)), None)
-        head = ["python", *tool.split()] if tool else ["snakemake"]
-        if not words or bad is not None or words[: len(head)] != head:
+        if not words or bad is not None or words[0] != "snakemake":
             out.append(
-                f"{where}.command = {shown(cmd)}: not a {' '.join(head)} command of plain words"
+                f"{where}.command = {shown(cmd)}: not a snakemake command of plain words"
                 + (f" (holds {shown(bad)})" if bad else "")
-                + f"; allowed: the {' '.join(head)} command {'that made it' if tool else 'its configs give'}"
+                + "; allowed: the snakemake command its configs give"
             )
             continue
         given = _configfiles(words)
         named += given
         extra = [c for c in configs or [] if Path(c).name != "config.yaml"]
-        if where == "made_by" and configs is not None and not tool and cmd != command_of(configs):
+        if where == "made_by" and configs is not None and cmd != command_of(configs):
             out.append(f"made_by.command = {shown(cmd)}; its configs {configs} give {command_of(configs)!r}")
         elif where == "rendered_by" and configs is not None and (given != extra or "render_only=True" not in words):
             out.append(

@@ -272,7 +272,7 @@ def place_refusal(path: str | Path, *, rerender: bool = False) -> str | None:
 
 def write_refusal(path: str | Path, *, rerender: bool = False, configs: Sequence[str] | None = None) -> str | None:
     """Why nothing may write to ``path`` (None when it may): the one guard of every writer (a run's
-    ``results_dir``, ``bundle_dir``, ``morphlearn refine export`` and ``assemble --write``).
+    ``results_dir``, ``bundle_dir`` and the scenario bundles).
     Refused: what :func:`place_refusal` refuses, and a results bundle or a folder inside one, but
     for a ``rerender``: a render_only run that re-makes the bundle at ``path`` itself, with the
     config files ``configs`` its bundle.json records (None: not known yet, at config load; the

@@ -1,20 +1,19 @@
-"""``morphlearn refine ACTION FOLDER``: read, check and export a refine folder, one physics design on
-an exhaustive weight grid, stored row by row (:mod:`morphlearn.resumable`: the committed
-``results/refine/*`` folders are such folders).
+"""``morphlearn refine ACTION FOLDER``: read and check a committed refine folder (one physics design
+on an exhaustive weight grid, stored row by row: ``results/refine/*``, read-only history read by
+:mod:`morphlearn.refine_folder`), and seed a workflow run from it or from another run's design cache.
 
-Actions: ``status`` (progress, cost, metrics so far), ``assemble`` (every row verified, the
-design's metrics as JSON; ``--write`` adds ``result.npz`` and ``summary.json``), ``export`` (the
-verified rows, manifest and logs into a small folder for git, with a README), ``adaptive`` (the
-adaptive weight grid replayed on a complete folder: the successes it would miss and the levers'
-cost), ``survey-check`` (the folder against a survey's merged store on the weights both share),
-``seed`` (the folder's episodes as its design's partial file in a workflow config's design cache,
-so a workflow run simulates only the rest); ``seed-cache`` does the same from another workflow
-run's design cache (e.g. an adaptive survey's ``<results_dir>/<model>/designs/<digest>/``) for
-every design of it the config simulates.
+Actions: ``status`` (progress, cost, metrics; with ``--configfile``, a workflow run's progress from
+its design cache: designs finished, episodes of a design in progress), ``assemble`` (every row verified, the design's
+metrics as JSON), ``adaptive`` (the adaptive weight grid replayed on a complete folder: the
+successes it would miss and the levers' cost), ``survey-check`` (the folder against a survey's
+merged store on the weights both share), ``seed`` (the folder's episodes as its design's partial
+file in a workflow config's design cache, so a workflow run simulates only the rest);
+``seed-cache`` does the same from another workflow run's design cache (e.g. an adaptive survey's
+``<results_dir>/<model>/designs/<digest>/``) for every design of it the config simulates.
 
-Refine runs themselves are workflow runs (``config/refine_pybullet.yaml``,
-``config/refine_mujoco.yaml``, ``config/ode_paper.yaml``); the folders this reads were made by the
-one-design runner :func:`morphlearn.resumable.run`.
+Refine runs are workflow runs (``config/refine_pybullet.yaml``, ``config/refine_mujoco.yaml``,
+``config/refine_exhaustive.yaml``, ``config/ode_paper.yaml``), sealed as bundles by the workflow's
+``bundle`` rule (their export); a run in progress resumes inside a design from its design cache.
 """
 
 from __future__ import annotations
@@ -22,7 +21,6 @@ from __future__ import annotations
 import argparse
 import json
 import re
-import shutil
 import sys
 from datetime import UTC, datetime
 from pathlib import Path
@@ -39,7 +37,7 @@ def _log(msg: str) -> None:
 
 
 def _folder(path: Path) -> Path:
-    from morphlearn import resumable as rz
+    from morphlearn import refine_folder as rz
 
     if not path.is_dir():
         raise ValueError(f"{path}: no such folder (a refine folder holds manifest.json and rows/)")
@@ -48,20 +46,51 @@ def _folder(path: Path) -> Path:
     return path
 
 
-def _writable(path: Path, what: str) -> None:
-    """The write guard every writer shares (:func:`morphlearn.config.write_refusal`): never into a
-    results bundle, the source tree, a hidden folder (.git, .venv) or outside results/ (issue 57:
-    ``refine export`` wrote into a committed bundle, src/, tools/ and .git/). ValueError, one line."""
-    from morphlearn.config import RESULTS_ALLOWED, write_refusal
+def run_progress(s: Any) -> list[str]:
+    """Where a workflow run (settings ``s``) stands, from its design cache: per simulated physics
+    model, the designs finished and, for a design in progress, the episodes its partial file holds
+    (the run resumes from them). One line per model and per design in progress."""
+    from morphlearn import design_cache, models
+    from morphlearn.physics import partial as partial_cells
 
-    why = write_refusal(path)
-    if why:
-        raise ValueError(f"{what} {str(path)!r} {why}; nothing was written; allowed: {RESULTS_ALLOWED}")
+    lines = []
+    for name in models.physics():
+        plugin = models.get(name)
+        if not plugin.simulates(s):
+            continue
+        designs = [int(d) for d in plugin.designs(s)]
+        m = len(plugin.weights(s))
+        cache = design_cache.cache_dir(s.results_dir, name, plugin.science(s))
+        done = [d for d in designs if design_cache.design_path(cache, d).is_file()]
+        lines.append(f"{name}: {len(done)} of {len(designs)} designs finished in {cache}")
+        for d in designs:
+            path = design_cache.partial_path(cache, d)
+            if d in done or not path.is_file():
+                continue
+            cells = partial_cells.load(path, plugin.partial_identity(s, d), (4, m, m))
+            if cells is None:
+                lines.append(
+                    f"  design {d}: {path.name} is unreadable or another run's (not used: the run starts afresh)"
+                )
+            else:
+                lines.append(
+                    f"  design {d}: in progress, {int(cells.simulated.sum())} of {4 * m * m} episodes in {path.name}"
+                )
+    return lines
 
 
 def status(a: argparse.Namespace) -> int:
-    from morphlearn import resumable as rz
+    from morphlearn import refine_folder as rz
 
+    if a.configfile:
+        if a.folder is not None:
+            raise ValueError("give a refine FOLDER or --configfile (a workflow run), not both")
+        from morphlearn import configure
+
+        print("\n".join(run_progress(configure.load(a.base, a.configfile))))
+        return 0
+    if a.folder is None:
+        raise ValueError("no FOLDER; allowed: a refine folder, or --configfile for a workflow run's progress")
     asm = rz.assemble(_folder(a.folder), log=_log)
     s, c = rz.summary(asm), rz.cost(a.folder)
     ident = asm.manifest["identity"]
@@ -96,136 +125,22 @@ def status(a: argparse.Namespace) -> int:
 
 def _summary(folder: Path) -> tuple[Any, dict[str, Any]]:
     """The assembled folder (every row verified) and its summary as ``assemble`` prints it."""
-    from morphlearn import resumable as rz
+    from morphlearn import refine_folder as rz
 
     asm = rz.assemble(_folder(folder), log=_log)
     return asm, rz.summary(asm) | {"cost": rz.cost(folder), "run_key": asm.manifest["run_key"]}
 
 
 def assemble(a: argparse.Namespace) -> int:
-    from morphlearn import resumable as rz
-
-    if a.write:
-        _writable(a.folder, "FOLDER (assemble --write writes result.npz and summary.json into it)")
-    asm, s = _summary(a.folder)
-    print(json.dumps(s, indent=1, sort_keys=True))
-    if a.write:
-        d = asm.result
-        np.savez_compressed(
-            a.folder / "result.npz",
-            first_time=d.first_time,
-            min_dist=d.min_dist,
-            status=d.status,
-            steps=asm.steps,
-            rows_done=asm.rows_done,
-            weights=rz.job_from_manifest(asm.manifest).weights,
-        )
-        (a.folder / "summary.json").write_text(json.dumps(s, indent=1, sort_keys=True) + "\n")
-        state = "complete" if asm.complete else "PARTIAL"
-        print(f"wrote {a.folder / 'result.npz'} and {a.folder / 'summary.json'} ({state})", file=sys.stderr)
-    return 0
-
-
-README = """# {title}: one {engine} design, exhaustive {m} x {m} weights ({state})
-
-A refine folder (morphlearn.resumable): every (env, w1, w2) episode of design
-l1 = {l1}, l2 = {l2} with the body `{body}` (sha256 {body_sha}...), levers {levers}.
-Exported by `morphlearn refine export {src} <this folder>` on {now}.
-
-**{state}**: {rows_done} of {m} w1 rows ({frac:.1%}), {episodes} of {total} episodes. Rows are
-computed coarse to fine (the 11-point weights first, then farthest-first), so the rows present
-are a spread-out sample of w1.
-
-- Read: `morphlearn refine status <this folder>` or `morphlearn refine assemble <this folder>`;
-  or `numpy.load("rows/row_XXX.npz")`: arrays `first_time`, `min_dist` (float32), `status` (int8),
-  `steps` (int16), shape (4 envs [45, 135, 225, 315 deg], {m} w2), for w1 = weights[XXX]
-  (`manifest.json` `weight_values`); `meta` holds the run key and the arrays' SHA-256.
-- Code: created at commit {created_commit}; each row's commit is in `progress.jsonl`, each start
-  in `runs.jsonl`. Run key {run_key}.
-
-## Numbers over the rows done
-
-- Generalists (success in all 4 environments): **{gen}** of {cells} cells; at least one
-  environment {any1}; per environment {per_env}; M_L {ml:.6g}, M_CF {mcf:.6g}; flagged {flagged}.
-{mirror}- Cost: {eps_wall:.2f} episodes per wall-second, {eps_cpu:.2f} episodes per CPU-second,
-  {spe:.0f} physics steps per episode (horizon {steps}).
-
-`summary.json` holds these numbers as `morphlearn refine assemble` prints them.
-"""
-
-
-def export(a: argparse.Namespace) -> int:
-    from morphlearn import resumable as rz
-
-    src, dest = a.folder, a.dest
-    _writable(dest, "DEST")
-    asm, s = _summary(src)
-    job = rz.job_from_manifest(asm.manifest)
-    # exported in place (the folder is its own export): only the README and summary are written,
-    # never the rows, which removing and copying onto themselves would destroy
-    if dest.resolve() != src.resolve():
-        if dest.exists() and not (dest / "rows").is_dir() and any(dest.iterdir()):
-            raise ValueError(f"{dest}: exists and is not an export (no rows/); allowed: absent, empty or an export")
-        if (dest / "rows").exists():
-            shutil.rmtree(dest / "rows")
-        (dest / "rows").mkdir(parents=True)
-        for i in np.flatnonzero(asm.rows_done):
-            shutil.copyfile(rz.row_path(src, int(i)), rz.row_path(dest, int(i)))
-        for name in ("manifest.json", "progress.jsonl", "runs.jsonl"):
-            if (src / name).exists():
-                shutil.copyfile(src / name, dest / name)
-    (dest / "summary.json").write_text(json.dumps(s, indent=1, sort_keys=True) + "\n")
-    man, dm, c = asm.manifest, s["metrics_over_rows_done"], s["cost"]
-    mi = s.get("mirror")
-    mirror = (
-        f"- Mirror flips (the design is its own mirror image; cell (env, i, j) against (mirror env, j, i), "
-        f"both rows done): **{mi['pairs_flipped']} of {mi['pairs_compared']}** cell pairs differ in success.\n"
-        if mi
-        else ""
-    )
-    state = "complete" if asm.complete else "PARTIAL"
-    (dest / "README.md").write_text(
-        README.format(
-            title="canonical design" if (job.l1, job.l2) == ((0.5, 0.5), (0.5, -0.5)) else "design",
-            engine=job.engine,
-            m=job.m,
-            state=state,
-            l1=list(job.l1),
-            l2=list(job.l2),
-            body=man["body_file"],
-            body_sha=str(man["body_file_sha256"])[:12],
-            levers=man["identity"]["levers"] or "none (every cell simulated to contact or horizon)",
-            src=src,
-            now=datetime.now(UTC).strftime("%Y-%m-%d %H:%M UTC"),
-            rows_done=s["rows_done"],
-            frac=s["fraction_done"],
-            episodes=s["episodes"],
-            total=4 * job.m**2,
-            created_commit=man["created_commit"],
-            run_key=man["run_key"],
-            gen=dm["generalists"],
-            cells=s["episodes"] // 4,
-            any1=dm["at_least_one"],
-            per_env=dm["per_env"],
-            ml=dm["M_L"],
-            mcf=dm["M_CF"],
-            flagged=dm["flagged"],
-            mirror=mirror,
-            eps_wall=c["episodes_per_wall_s"],
-            eps_cpu=c["episodes_per_cpu_s"],
-            spe=s["steps_per_episode"],
-            steps=job.params.steps,
-        )
-    )
-    size = sum(p.stat().st_size for p in dest.rglob("*") if p.is_file())
-    print(f"exported {s['rows_done']}/{job.m} rows ({state}) to {dest}: {size / 1e6:.2f} MB", file=sys.stderr)
+    """Every row verified; the design's summary as JSON on stdout (the folder's summary.json)."""
+    print(json.dumps(_summary(a.folder)[1], indent=1, sort_keys=True))
     return 0
 
 
 def adaptive(a: argparse.Namespace) -> int:
     """The adaptive weight grid's misses at each ``--near``, replayed on a complete folder."""
     from morphlearn import metrics
-    from morphlearn import resumable as rz
+    from morphlearn import refine_folder as rz
     from morphlearn.physics.refine import misses, simulated_mask
     from morphlearn.results import STATUS_OK
 
@@ -269,7 +184,7 @@ def survey_check(folder: Path, merged: str | Path) -> dict[str, object]:
     adaptive grid only skips cells); the survey's inferred cells, where its adaptive grid could
     miss successes, are counted apart."""
     from morphlearn import metrics, store
-    from morphlearn import resumable as rz
+    from morphlearn import refine_folder as rz
     from morphlearn.results import STATUS_INFERRED
 
     asm = rz.assemble(_folder(folder))
@@ -369,7 +284,7 @@ def seed_cache(a: argparse.Namespace) -> int:
 
 def run(a: argparse.Namespace) -> int:
     """The action; a refine folder that fails its checks is a usage error (one line, exit 2)."""
-    from morphlearn import resumable as rz
+    from morphlearn import refine_folder as rz
 
     try:
         return int(a.refine_func(a))
@@ -387,27 +302,27 @@ def add_parser(sub: Any) -> argparse.ArgumentParser:
     """The ``refine`` verb and its actions, on the ``morphlearn`` parser's subparsers ``sub``."""
     p = sub.add_parser(
         "refine",
-        help="read, check or export a refine folder (one design, exhaustive weights): "
-        "status, assemble, export, adaptive, survey-check, seed, seed-cache",
+        help="read or check a committed refine folder (one design, exhaustive weights), or seed a "
+        "workflow run from it: status, assemble, adaptive, survey-check, seed, seed-cache",
         description=terminal_text(__doc__ or ""),
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
     acts = p.add_subparsers(dest="action", required=True, metavar="ACTION", help="what to do with the folder")
     folder_help = "a refine folder (manifest.json, rows/; e.g. results/refine/canonical_121)"
 
-    s = acts.add_parser("status", help="progress, cost and metrics of the rows done")
-    s.add_argument("folder", type=Path, metavar="FOLDER", help=folder_help)
+    s = acts.add_parser(
+        "status", help="a folder's progress, cost and metrics; or, with --configfile, a workflow run's progress"
+    )
+    s.add_argument("folder", type=Path, nargs="?", metavar="FOLDER", help=folder_help)
+    s.add_argument(
+        "--configfile", type=Path, nargs="+", help="a workflow run's config file(s): its designs finished and partial"
+    )
+    s.add_argument("--base", type=Path, default=Path("config.yaml"), help="the base config (default: config.yaml)")
     s.set_defaults(refine_func=status)
 
-    m = acts.add_parser("assemble", help="verify every row; the design's result and metrics as JSON")
+    m = acts.add_parser("assemble", help="verify every row; the design's metrics as JSON")
     m.add_argument("folder", type=Path, metavar="FOLDER", help=folder_help)
-    m.add_argument("--write", action="store_true", help="also write result.npz and summary.json in the folder")
     m.set_defaults(refine_func=assemble)
-
-    e = acts.add_parser("export", help="copy the verified rows, manifest and logs to a folder for git, with a README")
-    e.add_argument("folder", type=Path, metavar="FOLDER", help=folder_help)
-    e.add_argument("dest", type=Path, metavar="DEST", help="the export folder (absent, empty, an export, or FOLDER)")
-    e.set_defaults(refine_func=export)
 
     ad = acts.add_parser("adaptive", help="replay the adaptive weight grid on a complete folder: what it misses")
     ad.add_argument("folder", type=Path, metavar="FOLDER", help=folder_help + "; complete")

@@ -13,7 +13,7 @@ import numpy as np
 import pandas as pd
 
 from morphlearn import grid as gridmod
-from morphlearn import metrics, models, provenance, resumable, store
+from morphlearn import metrics, models, provenance, store
 from morphlearn.bundle import BundleError
 from morphlearn.bundle_check import meaning_problems
 
@@ -121,8 +121,6 @@ def _resimulate_model(
     if not todo:
         return problems
     try:
-        if "refine" in sci:  # a refine bundle (morphlearn.refine_bundle): only in its own engine
-            resumable.check_engine(dict(sci))
         results = m.resimulate(sci, np.array(todo, dtype=np.int64))
     except (NotImplementedError, ValueError) as e:
         return [*problems, f"{model}: cannot re-simulate ({e})"]

@@ -1,9 +1,10 @@
-"""A workflow design's partial file seeded from an exhaustive ``tools/refine_design.py`` folder.
+"""A workflow design's partial file seeded from a committed exhaustive refine folder.
 
-A pybullet design at the paper's 121 x 121 weights is hours of one core. The exhaustive runner
-(:mod:`morphlearn.resumable`) and the workflow's evaluator make the same per-cell call
-(same runner, same reach bound, same floats; ``tests/test_refine_design.py``), so the episodes
-of an exhaustive folder, complete or not, are episodes the workflow would simulate. :func:`seed`
+A pybullet design at the paper's 121 x 121 weights is hours of one core. The folders' runner
+(deleted; the folders are read-only history, :mod:`morphlearn.refine_folder`) and the workflow's
+evaluator made the same per-cell call (same runner, same reach bound, same floats; the folders'
+rows equal the workflow's refine bundles, ``tests/test_refine_bundle.py``), so the episodes of an
+exhaustive folder, complete or not, are episodes the workflow would simulate. :func:`seed`
 writes them as the design's partial file (:mod:`morphlearn.physics.partial`) in a config's
 design cache: the workflow run then "resumes" the design and simulates only the cells of its
 path (e.g. the adaptive grid's) that the folder lacks, to the bytes of a run that had no file
@@ -35,7 +36,7 @@ import numpy as np
 
 from morphlearn import design_cache, models, store
 from morphlearn import grid as gridmod
-from morphlearn import resumable as rz
+from morphlearn import refine_folder as rz
 from morphlearn.physics import partial as partial_cells
 from morphlearn.physics.options import SweepOptions
 from morphlearn.physics.params import EmpiricalParams

@@ -7,11 +7,9 @@ from __future__ import annotations
 from collections.abc import Callable
 from typing import TYPE_CHECKING
 
-from morphlearn.empirical.rows import ENGINE
 from morphlearn.physics.model import Physics
 
 if TYPE_CHECKING:
-    from morphlearn.physics.rows import Engine
     from morphlearn.results import DesignResult
 
 
@@ -37,6 +35,3 @@ class Pybullet(Physics):
 
             return evaluate_design
         return super().robot_evaluator(robot)
-
-    def row_engine(self) -> Engine:
-        return ENGINE

@@ -17,11 +17,9 @@ from morphlearn.config import ConfigError
 from morphlearn.model_interface import Done, Resources
 from morphlearn.mujoco import mjwarp  # its names looked up per call (tests patch them)
 from morphlearn.mujoco.episode import evaluate_design
-from morphlearn.mujoco.rows import ENGINE
 from morphlearn.physics.model import Physics, PhysicsSettings
 
 if TYPE_CHECKING:
-    from morphlearn.physics.rows import Engine
     from morphlearn.results import DesignResult
     from morphlearn.settings import Settings, Shared
 
@@ -60,9 +58,6 @@ class Mujoco(Physics):
             science = MappingProxyType({**science, "backend": backend})
         fields = {f.name: getattr(base, f.name) for f in dataclasses.fields(PhysicsSettings)}
         return MujocoModelSettings(**{**fields, "science": science}, backend=backend)
-
-    def row_engine(self) -> Engine:
-        return ENGINE
 
     @staticmethod
     def design_evaluator() -> Callable[..., DesignResult]:

@@ -9,8 +9,8 @@
 - :mod:`.options`: the sweep's levers (early stop, adaptive weight grid);
 - :mod:`.reach`: the reach bound behind the early stop; :mod:`.refine`: the adaptive weight grid;
 - :mod:`.partial`: a running design's finished episodes (resume inside a design);
-- :mod:`.resumable`, :mod:`.seed`: one design at any weight resolution, row by row, and a design
-  seeded from such a folder.
+- (the committed refine folders, one design row by row, are history read by
+  :mod:`morphlearn.refine_folder`; :mod:`morphlearn.seed` seeds a design's partial file from them.)
 
 The engines are packages beside each other on this layer: :mod:`morphlearn.empirical` (pybullet),
 :mod:`morphlearn.mujoco`, :mod:`morphlearn.ode`. Nothing here imports an engine or anything above

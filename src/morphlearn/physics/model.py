@@ -35,7 +35,6 @@ from morphlearn.results import DesignResult
 if TYPE_CHECKING:
     from morphlearn.grid import DesignGrid
     from morphlearn.metrics import Thresholds
-    from morphlearn.physics.rows import Engine
     from morphlearn.settings import Settings, Shared
 
 DEFAULT_MORPHOLOGY = "config/empirical_morphology.yaml"
@@ -479,21 +478,13 @@ class Physics(Model):
     def resources(self, s: Settings) -> Resources:
         return Resources(threads=1, runtime=240, mem_mb=2000)
 
-    def row_engine(self) -> Engine | None:
-        """How the resumable one-design runner (:mod:`morphlearn.resumable`) computes a w1 row in
-        this engine; None: the engine has no such runner (its designs resume inside the workflow)."""
-        return None
-
     # -- records -----------------------------------------------------------------------------------
     def positions_of(self, science: Mapping[str, Any]) -> int:
         return int(science["positions_per_axis"])
 
     def how_made(self, science: Mapping[str, Any]) -> str:
-        """How a record's designs were simulated (mirror derivation, refine bundle, adaptive grid),
-        for :meth:`describe`."""
+        """How a record's designs were simulated (mirror derivation, adaptive grid), for :meth:`describe`."""
         how = "one of each mirror pair simulated, the other derived" if science.get("mirror_derive") else "simulated"
-        if science.get("refine"):  # a refine bundle (morphlearn.refine_bundle): say where it comes from
-            how += " one by one, every cell, by tools/refine_design.py (run keys in the store's record)"
         if ad := science.get("adaptive_weights"):
             how += (
                 f", weight grid refined adaptively around successes and near misses (within "
