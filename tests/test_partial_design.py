@@ -56,15 +56,10 @@ def test_killed_design_resumes_to_the_same_bytes(
     resumed = evaluate_design(*DESIGN, W, params, progress, options=ADAPTIVE, partial=part)
     assert len(calls) == simulated - 29  # only the episodes not done before
     assert_same(resumed, reference)
-    # its progress counts from its first new episode (so a time per episode is this run's): before
-    # it, the 29 episodes kept and the inferred cells of the environments they completed
-    before, kept = 29, 29
-    for env_status in reference.status:
-        n = int((env_status != STATUS_INFERRED).sum())
-        if kept < n:
-            break
-        kept, before = kept - n, before + env_status.size - n
-    assert lines[0] == (1, 100 - before) and lines[-1] == (100 - before, 100 - before), (before, lines[:2])
+    # its progress counts this run's episodes (so a time per episode is this run's) against the
+    # 100 - 29 cells left, one line per episode, and ends at the whole design
+    assert lines[:2] == [(1, 71), (2, 71)] and lines[-1] == (100, 100), (lines[:2], lines[-1])
+    assert len(lines) == len(calls) + 1 and lines[-2] == (len(calls), 71)
     # a kill that no handler sees (SIGKILL, a lost node) loses only what followed the last
     # periodic save (here after every episode)
     monkeypatch.undo()
