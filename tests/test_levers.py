@@ -16,7 +16,7 @@ from morphlearn.empirical import EpisodeRunner, evaluate_design
 from morphlearn.physics.options import SweepOptions
 from morphlearn.physics.params import EmpiricalParams, load_params
 from morphlearn.physics.reach import ReachBound, centre_factor
-from morphlearn.physics.refine import lattice, refine_mask, replay_mask
+from morphlearn.physics.refine import lattice, refine_waves, replay_mask
 from morphlearn.results import STATUS_INFERRED, STATUS_NONFINITE, STATUS_OK
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -101,6 +101,26 @@ def test_early_stop_changes_no_outcome(params: EmpiricalParams) -> None:
 # --- the adaptive weight grid ----------------------------------------------------------------
 
 
+def refine_mask(success: np.ndarray, promising: np.ndarray, stride: int = 2) -> np.ndarray:
+    """The adaptive grid as physics/refine.py's docstring states it, one cell at a time on one
+    exhaustive (m, m) map (the reference the sweep's wave-at-once :func:`refine_waves` and the
+    vectorised :func:`replay_mask` are checked against): the cells it simulates."""
+    m = success.shape[0]
+    done = np.zeros((m, m), bool)
+    wave = [tuple(int(v) for v in ij) for ij in np.argwhere(lattice(m, stride))]
+    while wave:
+        for i, j in wave:
+            done[i, j] = True
+        nxt: set[tuple[int, int]] = set()
+        for i, j in wave:
+            if success[i, j] or promising[i, j]:  # its unsimulated 8-neighbours are the next wave
+                nxt |= {
+                    (a, b) for a in range(max(i - 1, 0), min(i + 2, m)) for b in range(max(j - 1, 0), min(j + 2, m))
+                }
+        wave = sorted(c for c in nxt if not done[c])
+    return done
+
+
 def test_lattice_and_refinement_replay() -> None:
     assert lattice(11, 2).sum() == 36 and lattice(11, 2)[10, 10] and not lattice(11, 2)[1, 0]
     assert lattice(10, 3).sum() == 16  # 0, 3, 6, 9
@@ -125,6 +145,21 @@ def test_vectorised_replay_equals_the_refinement() -> None:
         succ, near = rng.random((2, 6, m, m)) < p
         want = np.stack([refine_mask(s, n, stride) for s, n in zip(succ, near, strict=True)])
         np.testing.assert_array_equal(replay_mask(succ | near, stride), want)
+
+
+def test_refine_waves_simulates_the_cells_refine_does() -> None:
+    """The sweep's adaptive grid (every map's wave in one call) simulates, per map, the cells of
+    the grid simulated one cell at a time, and each cell once."""
+    rng = np.random.default_rng(2)
+    m = 11
+    ok = rng.random((3, m, m)) < 0.08
+    near = rng.random((3, m, m)) < 0.1
+    asked: list[np.ndarray] = []
+    got = refine_waves(m, 3, lambda c: asked.append(c) or (ok[tuple(c.T)], near[tuple(c.T)]), 2)
+    for e in range(3):
+        np.testing.assert_array_equal(got[e], refine_mask(ok[e], near[e]))
+    cells = np.concatenate(asked)
+    assert len(cells) == int(got.sum()) == len(np.unique(cells, axis=0))
 
 
 def test_adaptive_design_marks_inferred_cells(params: EmpiricalParams) -> None:

@@ -13,7 +13,6 @@ from morphlearn.mujoco.model import MujocoSettings, build_model, mjcf
 from morphlearn.physics.options import SweepOptions
 from morphlearn.physics.params import EmpiricalParams, load_params
 from morphlearn.physics.reach import ReachBound
-from morphlearn.physics.refine import refine, refine_waves
 
 CANON = ((0.5, 0.5), (0.5, -0.5))
 PARAMS = load_params("config/empirical_morphology.yaml")
@@ -97,16 +96,6 @@ def test_lower_times_equal_the_scalar_bound() -> None:
         u = np.concatenate([rng.uniform(0, 3, 300), np.zeros(100), rng.uniform(0, 0.02, 122)])
         expect = [b.lower_time(x, y) for x, y in zip(d, u, strict=True)]
         assert lower_times(b, d, u).tolist() == expect
-
-
-def test_refine_waves_simulates_the_cells_refine_does() -> None:
-    rng = np.random.default_rng(2)
-    m = 11
-    ok = rng.random((3, m, m)) < 0.08
-    near = rng.random((3, m, m)) < 0.1
-    got = refine_waves(m, 3, lambda c: (ok[tuple(c.T)], near[tuple(c.T)]), 2)
-    for e in range(3):
-        assert np.array_equal(got[e], refine(m, lambda i, j, e=e: (bool(ok[e, i, j]), bool(near[e, i, j])), 2))
 
 
 def test_evaluate_design_levers_keep_the_successes() -> None:

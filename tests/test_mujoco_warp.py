@@ -98,6 +98,41 @@ def test_warp_agrees_with_the_cpu_batch(warp_cpu) -> None:  # type: ignore[no-un
     assert np.nanmax(np.abs(got.first_time - ref.first_time)) <= params.dt
 
 
+def test_many_designs_sweep_gives_each_designs_own_arrays() -> None:
+    """The warp backend's many-designs path (evaluate_designs: the physics sweep of several designs
+    per batch call) over the CPU batch, which has the warp runner's interface (always run: no MuJoCo
+    Warp needed): each design's evaluate_design arrays bit for bit, whatever the designs per batch."""
+    from morphlearn.grid import weights
+    from morphlearn.mujoco.episode import BatchRunner, evaluate_design
+    from morphlearn.mujoco.mjwarp import evaluate_designs
+    from morphlearn.physics.options import SweepOptions
+    from morphlearn.physics.params import load_params
+
+    pytest.importorskip("mujoco")
+    params = load_params(ROOT / "config" / "empirical_morphology.yaml").replace(steps=300)
+    runner = BatchRunner(params)
+    w = weights(3)
+    coords = np.array([[0.5, 0.5, 0.5, -0.5], [-0.5, 0.5, 0.5, -0.5], [0.5, -0.5, 0.5, 0.5]])
+    opt = SweepOptions(early_stop=True, adaptive_weights=True, stride=2, near=4.0)
+    alone = [evaluate_design((c[0], c[1]), (c[2], c[3]), w, options=opt, runner=runner) for c in coords]
+    assert any(np.isfinite(r.first_time).any() for r in alone)
+    for per in (1, 2, 3):
+        seen: list[int] = []
+        done = seen.append  # called as each design's group finishes: (index, result)
+        together = evaluate_designs(
+            coords,
+            w,
+            runner,  # type: ignore[arg-type]  # the CPU batch stands in for the warp runner
+            opt,
+            lambda i, r, done=done: done(i),
+            designs_per_batch=per,
+        )
+        assert seen == [0, 1, 2]
+        for k in range(3):
+            for f in ("first_time", "min_dist", "status"):
+                assert getattr(alone[k], f).tobytes() == getattr(together[k], f).tobytes(), (per, k, f)
+
+
 def test_warp_episode_does_not_depend_on_its_batch_graph_or_rerun(warp_cpu) -> None:  # type: ignore[no-untyped-def]
     """Many designs per batch (evaluate_designs) give each design's evaluate_design arrays bit for
     bit; the captured-graph path (CUDA's) equals the step-by-step one; a rerun the same bytes."""

@@ -10,7 +10,7 @@ import pytest
 from conftest import Killed, counting_runs
 
 from morphlearn import config as cfgmod
-from morphlearn import configure, design_cache, models
+from morphlearn import configure, design_cache, models, rules
 from morphlearn.empirical import evaluate_design
 from morphlearn.physics import partial as partial_cells
 from morphlearn.physics.options import SweepOptions
@@ -56,15 +56,10 @@ def test_killed_design_resumes_to_the_same_bytes(
     resumed = evaluate_design(*DESIGN, W, params, progress, options=ADAPTIVE, partial=part)
     assert len(calls) == simulated - 29  # only the episodes not done before
     assert_same(resumed, reference)
-    # its progress counts from its first new episode (so a time per episode is this run's): before
-    # it, the 29 episodes kept and the inferred cells of the environments they completed
-    before, kept = 29, 29
-    for env_status in reference.status:
-        n = int((env_status != STATUS_INFERRED).sum())
-        if kept < n:
-            break
-        kept, before = kept - n, before + env_status.size - n
-    assert lines[0] == (1, 100 - before) and lines[-1] == (100 - before, 100 - before), (before, lines[:2])
+    # its progress counts this run's episodes (so a time per episode is this run's) against the
+    # 100 - 29 cells left, one line per episode, and ends at the whole design
+    assert lines[:2] == [(1, 71), (2, 71)] and lines[-1] == (100, 100), (lines[:2], lines[-1])
+    assert len(lines) == len(calls) + 1 and lines[-2] == (len(calls), 71)
     # a kill that no handler sees (SIGKILL, a lost node) loses only what followed the last
     # periodic save (here after every episode)
     monkeypatch.undo()
@@ -115,14 +110,15 @@ def test_a_partial_file_of_something_else_is_not_resumed(
 
 
 def test_workflow_keeps_the_running_design_in_the_design_cache(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
-    """The shard's pybullet designs run with their partial file in the run's design cache, which is
-    removed once the design is stored (rules.run_shard's ``done`` saves it)."""
+    """The shard job (rules.run_shard) runs each pybullet design with its partial file in the run's
+    design cache, and the cache removes it once it stores the design (design_cache.save)."""
     cfg = cfgmod.read(ROOT / "config.yaml", [ROOT / "config/smoke.yaml"])
     cfg["results_dir"] = str(tmp_path / "results")
     s = configure.parse(cfg)
     model = models.get("empirical")
     folder = design_cache.cache_dir(s.results_dir, "empirical", model.science(s))
     seen: list[Path] = []
+    stored: list[bool] = []
 
     def fake(l1, l2, w, p, progress=None, options=None, partial=None) -> DesignResult:
         seen.append(partial)
@@ -131,9 +127,15 @@ def test_workflow_keeps_the_running_design_in_the_design_cache(tmp_path: Path, m
         shape = (4, len(w), len(w))
         return DesignResult(np.full(shape, np.nan), np.full(shape, 1.0), np.zeros(shape, np.int8))
 
+    real_save = design_cache.save
+
+    def save(folder: Path, design: int, *a, **k) -> None:
+        stored.append(design_cache.partial_path(folder, design).is_file())  # still there when stored ...
+        real_save(folder, design, *a, **k)
+
     monkeypatch.setattr(type(model), "design_evaluator", staticmethod(lambda: fake))
-    stored: list[tuple[int, bool]] = []
-    model.evaluate(s, np.array([3, 5]), done=lambda i, r: stored.append((i, seen[-1].is_file())))
-    assert seen == [design_cache.partial_path(folder, 3), design_cache.partial_path(folder, 5)]
-    assert stored == [(0, True), (1, True)]  # each still there when its design is stored ...
-    assert not any(p.exists() for p in seen)  # ... and removed after
+    monkeypatch.setattr(design_cache, "save", save)
+    (d,) = model.shard_designs(s)[0]
+    rules.run_shard(s, "empirical", 0, tmp_path / "shard.nc")
+    assert seen == [design_cache.partial_path(folder, int(d))] and stored == [True]
+    assert not seen[0].exists() and design_cache.design_path(folder, int(d)).is_file()  # ... removed after

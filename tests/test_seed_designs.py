@@ -51,7 +51,7 @@ def _evaluate(s: Settings, monkeypatch: pytest.MonkeyPatch) -> tuple[list[Design
             science=model.science(s), provenance={"git_commit": "test"},
         )  # fmt: skip
 
-    out = model.evaluate(s, designs, done=done)
+    out = model.evaluate(s, designs, done=done, partial=lambda d: design_cache.partial_path(folder, d))
     monkeypatch.undo()
     return out, sum(ran)
 

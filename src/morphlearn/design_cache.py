@@ -6,7 +6,10 @@ does not own these files, so they outlive a shard's rerun: a shard job first reu
 found there whose science digest and data checksum check out (:func:`store.verify_shard`), computes
 the rest, and assembles its shard file from both. Changing the shard count then recomputes
 nothing, and a killed shard resumes from its last finished design (empirical) or batch of designs
-(theory: the kernel's batches, ~6 designs at paper resolution).
+(theory: the kernel's batches, ~6 designs at paper resolution). A physics engine whose designs
+resume inside themselves (``resumes_inside_design``) keeps a running design's episodes here too
+(:func:`partial_path`, :mod:`morphlearn.physics.partial`), removed when the design is saved: this
+module owns both kinds of file; the shard job (``rules.run_shard``) hands a model its designs' paths.
 
 Disk: the cache holds the same arrays as the shards (theory at paper resolution ~1.8 GB more);
 ``design_cache: false`` in the config turns it off.
@@ -50,7 +53,8 @@ def design_path(folder: Path, design: int) -> Path:
 
 
 def partial_path(folder: Path, design: int) -> Path:
-    """Where a running design keeps its finished episodes (:mod:`morphlearn.physics.partial`)."""
+    """Where a running design keeps its finished episodes (:mod:`morphlearn.physics.partial`):
+    the shard job hands it to the model (``Model.evaluate``'s ``partial``); :func:`save` removes it."""
     return folder / f"design_{int(design)}.partial.npz"
 
 
@@ -100,7 +104,8 @@ def save(
     science: dict[str, Any],
     provenance: dict[str, Any],
 ) -> None:
-    """Write one finished design (atomically, in the shard schema)."""
+    """Write one finished design (atomically, in the shard schema) and remove its partial file
+    (:func:`partial_path`), no longer needed: the cache is the one owner of both."""
     store.write_shard(
         design_path(folder, design),
         model=model,
@@ -111,3 +116,4 @@ def save(
         science=design_science(science),
         provenance=provenance,
     )
+    partial_path(folder, design).unlink(missing_ok=True)

@@ -20,6 +20,7 @@ import copy
 from abc import ABC, abstractmethod
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass
+from pathlib import Path
 from typing import TYPE_CHECKING, Any, ClassVar
 
 import numpy as np
@@ -33,6 +34,9 @@ if TYPE_CHECKING:
 
 #: Called as each design of a batch finishes: (index in the batch, its result).
 Done = Callable[[int, "DesignResult"], None]
+#: Where a design (a flat index) keeps its finished episodes while it runs: the design cache's
+#: partial file (:func:`morphlearn.design_cache.partial_path`), which owns and removes it.
+PartialPath = Callable[[int], Path]
 
 
 @dataclass(frozen=True)
@@ -112,8 +116,12 @@ class Model(ABC):
         """Success thresholds its metrics apply to the stored arrays."""
 
     @abstractmethod
-    def evaluate(self, s: Settings, designs: np.ndarray, done: Done | None = None) -> list[DesignResult]:
-        """Results of ``designs`` (flat indices), in order; ``done`` as each one finishes."""
+    def evaluate(
+        self, s: Settings, designs: np.ndarray, done: Done | None = None, partial: PartialPath | None = None
+    ) -> list[DesignResult]:
+        """Results of ``designs`` (flat indices), in order; ``done`` as each one finishes.
+        ``partial``: where a design may keep its finished episodes while it runs, to resume inside
+        itself (a model whose designs are short units ignores it); None: nowhere."""
 
     @abstractmethod
     def backend(self, s: Settings) -> dict[str, str]:

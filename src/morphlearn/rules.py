@@ -47,7 +47,9 @@ def run_shard(s: Settings, model: str, shard: int, out: str | Path) -> None:
         print(f"shard {shard}: design {int(todo[i])} computed ({i + 1}/{len(todo)})", flush=True)
 
     if len(todo):
-        m.evaluate(s, todo, done=finished)
+        # a running design keeps its episodes beside the finished ones, in the same cache
+        partial = (lambda d: design_cache.partial_path(folder, d)) if folder else None
+        m.evaluate(s, todo, done=finished, partial=partial)
     # the code of every design the shard holds: the commit that computed it (reused designs keep
     # theirs), so a shard assembled now from designs of earlier code claims no commit for them
     here = prov["git_commit"]

@@ -16,22 +16,21 @@ bit-for-bit identical to ones in a fresh client (tested).
 from __future__ import annotations
 
 import math
-import time
 from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
+from types import SimpleNamespace
 
 import numpy as np
 import pybullet as pb
 
 from morphlearn.empirical.robot import LEFT_WHEEL, RIGHT_WHEEL, World, build_world, rebuild
 from morphlearn.grid import light_positions
-from morphlearn.physics import partial as partial_cells
 from morphlearn.physics.options import SweepOptions
 from morphlearn.physics.params import EmpiricalParams
 from morphlearn.physics.reach import CHECK_EVERY, ReachBound, sensor_reach
-from morphlearn.physics.refine import refine
-from morphlearn.results import STATUS_INFERRED, STATUS_NONFINITE, DesignResult
+from morphlearn.physics.sweep import sweep
+from morphlearn.results import DesignResult
 
 Point = tuple[float, float]
 
@@ -201,69 +200,22 @@ def evaluate_design(
     options: SweepOptions | None = None,
     partial: Path | None = None,
 ) -> DesignResult:
-    """All (env, w1, w2) episodes of one design; arrays (4, m, m) indexed [env, i_w1, i_w2].
-
-    ``partial``: a file that keeps the episodes done so far while the design runs
-    (:mod:`morphlearn.physics.partial`); a design stopped by an error, Ctrl-C or a kill resumes
-    from it without re-simulating them, to the same result. The caller removes it once the
-    design's result is stored.
-
-    ``progress(done, total)`` is called after each episode if given (cells inferred by the
-    adaptive grid count as done when their environment ends; a resumed design counts from its
-    first new episode). A non-finite state gives status
-    ``STATUS_NONFINITE`` (its first_time is NaN, min_dist up to where it stopped); a cell the
-    adaptive grid did not simulate has status ``STATUS_INFERRED`` and NaN arrays.
-    """
+    """All (env, w1, w2) episodes of one design; arrays (4, m, m) indexed [env, i_w1, i_w2]: the
+    physics layer's sweep (:func:`morphlearn.physics.sweep.sweep`: adaptive grid, resume from
+    ``partial``, progress) over this runner's episodes, one per batch call (``progress`` and the
+    partial file's checkpoints after each episode, as an episode is ~0.1-1 s of one core)."""
     options = options or SweepOptions()
-    w = np.asarray(weights, dtype=np.float64)
-    m = len(w)
-    ident, cells = partial_cells.resume(partial, l1, l2, w, params, options)
-    first, dist, status, have = cells.first_time, cells.min_dist, cells.status, cells.simulated
-    total, done = 4 * m * m, 0
-    base = -1  # cells done before this run's first episode (a resumed design's): not in its progress
-    saved = time.monotonic()
     with EpisodeRunner(params) as runner:
-        near = options.near * runner.params.contact_distance
 
-        def simulate(env: int, i: int, j: int) -> tuple[bool, bool]:
-            nonlocal done, saved, base
-            if have[env, i, j]:  # resumed: the episode's stored outcome, exactly as it was run
-                done += 1
-                return not math.isnan(first[env, i, j]), bool(dist[env, i, j] <= near)
-            b = runner.bound(l1, l2, w[i], w[j], options.margin) if options.early_stop else None
-            ep = runner.run(l1, l2, w[i], w[j], env, bound=b)
-            first[env, i, j] = ep.first_time
-            dist[env, i, j] = ep.min_dist
-            if not ep.finite:
-                status[env, i, j] = STATUS_NONFINITE
-            have[env, i, j] = True
-            base = done if base < 0 else base
-            done += 1
-            if progress is not None and done < total:
-                progress(done - base, total - base)  # so its time per episode counts this run's only
-            if partial is not None and time.monotonic() - saved >= partial_cells.CHECKPOINT_S:
-                partial_cells.save(partial, ident, cells)
-                saved = time.monotonic()
-            return ep.success, ep.min_dist <= near
+        def batch(w: np.ndarray, env: np.ndarray) -> SimpleNamespace:
+            eps = []
+            for (w1, w2), e in zip(w.tolist(), env.tolist(), strict=True):
+                b = runner.bound(l1, l2, w1, w2, options.margin) if options.early_stop else None
+                eps.append(runner.run(l1, l2, w1, w2, e, bound=b))
+            return SimpleNamespace(
+                first_time=np.array([ep.first_time for ep in eps]),
+                min_dist=np.array([ep.min_dist for ep in eps]),
+                finite=np.array([ep.finite for ep in eps], bool),
+            )
 
-        try:
-            for env in range(4):
-                if options.adaptive_weights:
-                    sim = refine(m, lambda i, j, env=env: simulate(env, i, j), options.stride)
-                    status[env][~sim] = STATUS_INFERRED
-                    # a seeded partial file (morphlearn.seed) may hold cells this path
-                    # never asks for: they are inferred here, as in a run that had no file
-                    first[env][~sim] = np.nan
-                    dist[env][~sim] = np.nan
-                    done += int((~sim).sum())
-                else:
-                    for i in range(m):
-                        for j in range(m):
-                            simulate(env, i, j)
-        except BaseException:  # Ctrl-C, SIGTERM turned into an exception, an error: keep what is done
-            if partial is not None and have.any():
-                partial_cells.save(partial, ident, cells)
-            raise
-        if progress is not None:
-            progress(total - max(base, 0), total - max(base, 0))
-    return DesignResult(first_time=first, min_dist=dist, status=status)
+        return sweep(batch, l1, l2, weights, runner.params, options, progress, partial, chunk=1)

@@ -42,8 +42,7 @@ from morphlearn.mujoco.model import MujocoSettings, build_model
 from morphlearn.physics.options import SweepOptions
 from morphlearn.physics.params import EmpiricalParams
 from morphlearn.physics.reach import CHECK_EVERY, ReachBound, sensor_reach
-from morphlearn.physics.refine import refine_waves
-from morphlearn.results import STATUS_INFERRED, STATUS_NONFINITE, STATUS_OK, DesignResult
+from morphlearn.physics.sweep import sweep_designs
 
 if TYPE_CHECKING:
     from morphlearn.results import DesignResult
@@ -296,47 +295,29 @@ def evaluate_designs(
     designs_per_batch: int | None = None,
 ) -> list[DesignResult]:
     """:func:`morphlearn.mujoco.episode.evaluate_design` for many designs ``coords`` (D, 4) at once:
-    the episodes of ``designs_per_batch`` designs (default: as many as fill ``runner.nworld`` worlds)
-    share each batch, so a GPU gets thousands of worlds where one design has only 4 m^2 episodes.
-    Per design the same cells and outcomes as ``evaluate_design`` with the same runner (worlds are
-    independent; with the adaptive grid, :func:`refine_waves` grows every design's maps as
-    ``refine`` does). ``done(index, result)`` as each batch of designs finishes."""
+    the physics layer's sweep of ``designs_per_batch`` designs together
+    (:func:`morphlearn.physics.sweep.sweep_designs`; default: as many as fill ``runner.nworld``
+    worlds), so a GPU gets thousands of worlds where one design has only 4 m^2 episodes. Per design
+    the same cells and outcomes as ``evaluate_design`` with the same runner (worlds are
+    independent). ``done(index, result)`` as each group of designs finishes."""
     options = options or SweepOptions()
     coords = np.asarray(coords, dtype=np.float64).reshape(-1, 4)
-    w = np.asarray(weights, dtype=np.float64)
-    m = len(w)
+    m = len(weights)
     per = designs_per_batch or max(1, runner.nworld // (4 * m * m))
-    near = options.near * runner.params.contact_distance
     margin = options.margin if options.early_stop else None
     out: list[DesignResult] = []
     for a in range(0, len(coords), per):
         c = coords[a : a + per]
-        nd = len(c)
         # the shard log's progress line (one batch is the unit here, not an episode)
-        batch = f"one GPU batch of up to {4 * nd * m * m} episodes"
-        print(f"designs {a + 1}-{a + nd}/{len(coords)}: started, {batch}", flush=True)
-        first = np.full((nd * 4, m, m), np.nan)
-        dist = np.full((nd * 4, m, m), np.nan)
-        status = np.full((nd * 4, m, m), STATUS_OK, dtype=np.int8)
+        batch_of = f"one GPU batch of up to {4 * len(c) * m * m} episodes"
+        print(f"designs {a + 1}-{a + len(c)}/{len(coords)}: started, {batch_of}", flush=True)
 
-        def simulate(cells: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-            mp, i, j = cells.T  # map = 4 * design + environment
-            d, e = np.divmod(mp, 4)
-            ep = runner.run(c[d, :2], c[d, 2:], np.stack([w[i], w[j]], 1), e, margin=margin)  # noqa: B023
-            first[mp, i, j] = ep.first_time  # noqa: B023
-            dist[mp, i, j] = ep.min_dist  # noqa: B023
-            bad = ~ep.finite
-            status[mp[bad], i[bad], j[bad]] = STATUS_NONFINITE  # noqa: B023
-            return ep.success, ep.min_dist <= near
+        def batch(d: np.ndarray, w: np.ndarray, env: np.ndarray) -> Episodes:
+            return runner.run(c[d, :2], c[d, 2:], w, env, margin=margin)  # noqa: B023
 
-        if options.adaptive_weights:
-            sim = refine_waves(m, 4 * nd, simulate, options.stride)
-            status[~sim] = STATUS_INFERRED
-        else:
-            simulate(np.argwhere(np.ones((4 * nd, m, m), bool)))
-        for k in range(nd):
-            sl = slice(4 * k, 4 * k + 4)
-            out.append(DesignResult(first_time=first[sl], min_dist=dist[sl], status=status[sl]))
+        designs = [((x[0], x[1]), (x[2], x[3])) for x in c]
+        for k, r in enumerate(sweep_designs(batch, designs, weights, runner.params, options)):
+            out.append(r)
             if done is not None:
-                done(a + k, out[-1])
+                done(a + k, r)
     return out

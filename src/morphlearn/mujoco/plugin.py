@@ -14,7 +14,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from morphlearn.config import ConfigError
-from morphlearn.model_interface import Done, Resources
+from morphlearn.model_interface import Done, PartialPath, Resources
 from morphlearn.mujoco import mjwarp  # its names looked up per call (tests patch them)
 from morphlearn.mujoco.episode import evaluate_design
 from morphlearn.physics.model import Physics, PhysicsSettings
@@ -70,10 +70,12 @@ class Mujoco(Physics):
             return authors.evaluate_design
         return super().robot_evaluator(robot)
 
-    def evaluate(self, s: Settings, designs: np.ndarray, done: Done | None = None) -> list[DesignResult]:
+    def evaluate(
+        self, s: Settings, designs: np.ndarray, done: Done | None = None, partial: PartialPath | None = None
+    ) -> list[DesignResult]:
         e = self.settings(s)
         if e.backend == "cpu":
-            return super().evaluate(s, designs, done)
+            return super().evaluate(s, designs, done, partial)
         # one model on the GPU, its kernels compiled once; the episodes of as many designs as fill
         # a batch of NWORLD worlds share it (done is called as each batch of designs finishes)
         runner = mjwarp.WarpBatchRunner(e.params)

@@ -25,7 +25,7 @@ from morphlearn import bounded
 from morphlearn import grid as gridmod
 from morphlearn.config import ConfigError
 from morphlearn.errors import UsageError, c_stdout_to_stderr
-from morphlearn.model_interface import Done, Model, Resources
+from morphlearn.model_interface import Done, Model, PartialPath, Resources
 from morphlearn.physics.authors import success_radius
 from morphlearn.physics.options import SweepOptions
 from morphlearn.physics.params import EmpiricalParams, load_params
@@ -98,7 +98,8 @@ class Physics(Model):
     #: The engine the paper's physics ran in (ODE): drawn and answered first where enabled.
     paper_engine: ClassVar[bool] = False
     #: Its ``evaluate_design`` takes ``partial=`` (a design resumes inside itself, see
-    #: :mod:`morphlearn.physics.partial`): the run's design cache then holds running designs too.
+    #: :mod:`morphlearn.physics.partial`): :meth:`evaluate` then keeps each running design's
+    #: episodes where ``partial`` says (the run's design cache).
     resumes_inside_design: ClassVar[bool] = False
     cli_options = ("morphology", "robot")
     path_keys = ("morphology", "results_from")
@@ -397,32 +398,27 @@ class Physics(Model):
             raise ValueError(f"{self.name}: robot {robot!r} is not built; allowed: {list(self.robots)}")
         return self.design_evaluator()
 
-    def evaluate(self, s: Settings, designs: np.ndarray, done: Done | None = None) -> list[DesignResult]:
+    def evaluate(
+        self, s: Settings, designs: np.ndarray, done: Done | None = None, partial: PartialPath | None = None
+    ) -> list[DesignResult]:
         from tqdm import tqdm
-
-        from morphlearn import design_cache
 
         e = self.settings(s)
         evaluate_design = self.robot_evaluator(e.robot)
         w = self.weights(s)
-        # the running design's episodes beside the finished designs (rules.run_shard's cache)
-        folder = None
-        if self.resumes_inside_design and s.design_cache and done:
-            folder = design_cache.cache_dir(s.results_dir, self.name, self.science(s))
+        partial = partial if self.resumes_inside_design else None
         out = []
         screen = self._screen(e.options)
         for i, d in enumerate(tqdm(designs, unit="design", mininterval=1.0)):
             label = f"design {i + 1}/{len(designs)} (index {int(d)})"
             print(f"{label}: started", flush=True)  # the shard log is never silent for a whole design
             log = EpisodeProgress(label, at_most=e.options.adaptive_weights)
-            kw: dict[str, Any] = {"partial": design_cache.partial_path(folder, int(d))} if folder else {}
+            kw: dict[str, Any] = {"partial": partial(int(d))} if partial else {}
             if screen is not None:
                 kw["screen"] = screen(int(d), e.params)
             out.append(evaluate_design(*self.sensors(s, int(d)), w, e.params, progress=log, options=e.options, **kw))
             if done:
-                done(i, out[-1])  # stores the design (design_cache.save) ...
-            if folder:
-                kw["partial"].unlink(missing_ok=True)  # ... so its partial file is no longer needed
+                done(i, out[-1])  # stores the design (design_cache.save, which removes its partial file)
         return out
 
     def _screen(self, options: SweepOptions) -> Callable[[int, EmpiricalParams], np.ndarray] | None:

@@ -1,9 +1,11 @@
 """A design's finished episodes, kept while it runs, so a killed design resumes inside itself.
 
 A pybullet design on the paper's 121 x 121 weights is hours of one core, too long a unit to lose
-to a killed job (SLURM time limit, Ctrl-C, a lost node). :func:`morphlearn.empirical.episode.
-evaluate_design` keeps its episodes done so far in one file (every ``CHECKPOINT_S`` seconds and
-when it stops on an error) and reads them back at its start: the cells already simulated are not
+to a killed job (SLURM time limit, Ctrl-C, a lost node). The physics sweep
+(:func:`morphlearn.physics.sweep.sweep`, every engine's) keeps its episodes done so far in one file
+(every ``CHECKPOINT_S`` seconds and when it stops on an error) and reads them back at its start
+(:func:`resume`); the design cache (:mod:`morphlearn.design_cache`) says where the file lives and
+removes it once the design is stored. The cells already simulated are not
 simulated again, and since the adaptive grid chooses cells from outcomes alone, the resumed run
 takes the same path and gives the same bytes. The file names the design, weights, body and levers
 it was made for and the digest of its arrays; one that does not match is ignored (reported) and
@@ -41,7 +43,7 @@ class Cells:
 
     @classmethod
     def empty(cls, m: int) -> Cells:
-        """No episode done yet, on an m x m weight grid (arrays as ``evaluate_design`` fills them)."""
+        """No episode done yet, on an m x m weight grid (arrays as the sweep fills them)."""
         return cls(
             first_time=np.full((4, m, m), np.nan),
             min_dist=np.full((4, m, m), np.nan),

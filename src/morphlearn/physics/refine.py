@@ -41,40 +41,12 @@ def first_wave(m: int, stride: int, shape: tuple[int, ...], first: np.ndarray | 
     return start if first is None else start | np.asarray(first, bool)
 
 
-def refine(m: int, simulate: Callable[[int, int], tuple[bool, bool]], stride: int = DEFAULT_STRIDE) -> np.ndarray:
-    """Run the refinement; ``simulate(i, j)`` returns ``(success, promising)`` of cell (i, j).
-    Returns the (m, m) mask of simulated cells. Deterministic: cells in row-major order per wave."""
-    done = np.zeros((m, m), bool)
-    wave = [tuple(int(v) for v in ij) for ij in np.argwhere(lattice(m, stride))]
-    while wave:
-        seeds = []
-        for i, j in wave:
-            done[i, j] = True
-            ok, promising = simulate(i, j)
-            if ok or promising:
-                seeds.append((i, j))
-        nxt: set[tuple[int, int]] = set()
-        for i, j in seeds:
-            for a in range(max(i - 1, 0), min(i + 2, m)):
-                for b in range(max(j - 1, 0), min(j + 2, m)):
-                    if not done[a, b]:
-                        nxt.add((a, b))
-        wave = sorted(nxt)
-    return done
-
-
-def refine_mask(success: np.ndarray, promising: np.ndarray, stride: int = DEFAULT_STRIDE) -> np.ndarray:
-    """Replay :func:`refine` on exhaustive (m, m) maps: the cells it would have simulated."""
-    m = success.shape[0]
-    return refine(m, lambda i, j: (bool(success[i, j]), bool(promising[i, j])), stride)
-
-
 def replay_mask(seeds: np.ndarray, stride: int = DEFAULT_STRIDE, first: np.ndarray | None = None) -> np.ndarray:
-    """:func:`refine_mask` for many maps at once (..., m, m), vectorised, from ``seeds`` =
-    success | promising: the refinement explores exactly the 8-connected regions of seed cells
-    that touch its first wave (the lattice, and ``first`` where given: a screen's cells, see
-    :func:`refine_waves`) and simulates them with a one-cell fringe, besides the first wave (a test
-    checks it equals :func:`refine_mask` and :func:`refine_waves`)."""
+    """The cells :func:`refine_waves` simulates, replayed on exhaustive maps (..., m, m) at once,
+    vectorised, from ``seeds`` = success | promising: the refinement explores exactly the
+    8-connected regions of seed cells that touch its first wave (the lattice, and ``first`` where
+    given: a screen's cells) and simulates them with a one-cell fringe, besides the first wave (a
+    test checks it equals :func:`refine_waves` and the grid simulated one cell at a time)."""
     from scipy import ndimage
 
     seeds = np.asarray(seeds, bool)
@@ -151,12 +123,13 @@ def refine_waves(
     stride: int,
     first: np.ndarray | None = None,
 ) -> np.ndarray:
-    """:func:`morphlearn.physics.refine.refine` on ``n_maps`` (m, m) maps at once: each wave of
-    every map is simulated in one call ``simulate(cells)`` (cells (k, 3) = map, i, j) returning
-    ``(success, promising)``. The same cells as ``refine`` per map: ``refine`` too simulates a
-    whole wave before it looks at its outcomes. ``first``: (n_maps, m, m) cells the first wave
-    holds besides the lattice (a screen's successes and near misses, :func:`screen_cells`).
-    Returns the (n_maps, m, m) simulated mask."""
+    """The adaptive grid (the module docstring's steps) on ``n_maps`` (m, m) maps at once: each
+    wave of every map is simulated in one call ``simulate(cells)`` (cells (k, 3) = map, i, j, in
+    row-major order) returning ``(success, promising)``; a wave is simulated whole before its
+    outcomes are looked at, so the cells per map do not depend on the other maps (tested against
+    the grid simulated one cell at a time). ``first``: (n_maps, m, m) cells the first wave holds
+    besides the lattice (a screen's successes and near misses, :func:`screen_cells`). Returns the
+    (n_maps, m, m) simulated mask. The physics sweep (:mod:`morphlearn.physics.sweep`) runs it."""
     done = np.zeros((n_maps, m, m), bool)
     wave = np.argwhere(first_wave(m, stride, (n_maps, m, m), first))
     while len(wave):

@@ -18,7 +18,7 @@ from morphlearn import grid as gridmod
 from morphlearn import theory as kernels  # its evaluate looked up per call (tests patch it)
 from morphlearn.config import ConfigError
 from morphlearn.errors import UsageError
-from morphlearn.model_interface import Done, Model, Resources
+from morphlearn.model_interface import Done, Model, PartialPath, Resources
 from morphlearn.settings import check_theory
 from morphlearn.theory import TheoryParams
 
@@ -135,7 +135,10 @@ class Theory(Model):
             sim_radius=p.success_radius,
         )
 
-    def evaluate(self, s: Settings, designs: np.ndarray, done: Done | None = None) -> list[DesignResult]:
+    def evaluate(
+        self, s: Settings, designs: np.ndarray, done: Done | None = None, partial: PartialPath | None = None
+    ) -> list[DesignResult]:
+        # partial unused: the kernel's batches (~6 designs at paper resolution) are the unit a kill loses
         return kernels.evaluate(
             s.grid.designs.coords(designs), self.weights(s), self.settings(s).params, progress=True, done=done
         )
