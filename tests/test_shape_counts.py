@@ -47,7 +47,7 @@ def test_a_planted_engine_name_is_counted_but_not_in_its_package_or_a_docstring(
     counts: ModuleType, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
     before, _ = counts.engine_constants()
-    root = _planted(tmp_path, "src/morphlearn/planted.py", '"""ode"""\nENGINE = "mujoco"\nLABEL = "M_L_ode"\n')
+    root = _planted(tmp_path, "src/morphlearn/planted.py", '"""The ode engine."""\nENGINE = "mujoco"\nLABEL = "M_L_ode"\n')
     (root / "src/morphlearn/ode/planted.py").write_text('E = "ode"\n')
     monkeypatch.setattr(counts, "ROOT", root)
     after, _ = counts.engine_constants()
