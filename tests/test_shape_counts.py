@@ -47,14 +47,17 @@ def test_a_planted_engine_name_is_counted_but_not_in_its_package_or_a_docstring(
     counts: ModuleType, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
     before, _ = counts.engine_constants()
-    root = _planted(tmp_path, "src/morphlearn/planted.py", '"""The ode engine."""\nENGINE = "mujoco"\nLABEL = "M_L_ode"\n')
+    planted = '"""The ode engine."""\nENGINE = "mujoco"\nLABEL = "M_L_ode"\n'
+    root = _planted(tmp_path, "src/morphlearn/planted.py", planted)
     (root / "src/morphlearn/ode/planted.py").write_text('E = "ode"\n')
     monkeypatch.setattr(counts, "ROOT", root)
     after, _ = counts.engine_constants()
     assert [h for h in after if h not in before] == ["src/morphlearn/planted.py:2: 'mujoco'"]
 
 
-def test_a_planted_settings_read_is_counted(counts: ModuleType, tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+def test_a_planted_settings_read_is_counted(
+    counts: ModuleType, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
     root = _planted(tmp_path, "workflow/rules/planted.smk", 'x = S.source["theory"]\n')
     (root / "src/morphlearn/planted.py").write_text('def f(s):\n    return s.source["engines"]\n')
     monkeypatch.setattr(counts, "ROOT", root)

@@ -51,7 +51,7 @@ def parse(cfg: Mapping[str, Any]) -> st.Settings:
             raise cfgmod.ConfigError(
                 f"learners.shards = {learners.shards} exceeds the {n_run} designs the learners run; allowed: 1..{n_run}"
             )
-    coopt = st.section(st.CooptSettings, v["coopt"])
+    coopt = st.coopt_section(v["coopt"])
     st.check_coopt(coopt)
     return st.Settings(
         source=MappingProxyType(v),
@@ -63,6 +63,8 @@ def parse(cfg: Mapping[str, Any]) -> st.Settings:
         figures=figures,
         learners=learners,
         coopt=coopt,
+        engines=st.section(st.EnginesSettings, v["engines"]),
+        agreement=st.agreement_section(v["agreement"]),
         # each model parses its own section (schema defaults filled: {} when absent)
         models=MappingProxyType(
             {name: m.parse(v.get(name, {}), st.Shared(grid, sweep, figures)) for name, m in models.MODELS.items()}
