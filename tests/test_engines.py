@@ -49,7 +49,7 @@ def _render(name: str, tmp_path: Path, files: tuple[str, ...], **extra: object) 
 def test_engine_numbers_are_the_committed_ones(tmp_path: Path) -> None:
     """Rule engines_numbers' work on the committed tables gives the committed engines.csv and
     engines.json byte for byte."""
-    s = engine_compare.EnginesSettings.of(CONFIG)
+    s = CONFIG.engines
     assert s.enabled and CONFIG.results_dir == "results/mujoco"
     stats = engine_compare.write_numbers(s, tmp_path / "engines.csv", tmp_path / "engines.json")
     assert (tmp_path / "engines.csv").read_bytes() == (MJ / "engines.csv").read_bytes()
@@ -94,7 +94,7 @@ def test_committed_disagreement_agrees_with_the_tables() -> None:
     """The committed re-simulation (rule engines_disagreement) is of the design the tables pick,
     with their generalist counts, and its controller is a generalist in exactly one engine."""
     info = json.loads((MJ / "disagreement.json").read_text())
-    s = engine_compare.EnginesSettings.of(CONFIG)
+    s = CONFIG.engines
     pb, mj = engine_compare.read_table(s.pybullet), engine_compare.read_table(s.mujoco)
     assert info["design"] == engine_compare.pick_design(pb, mj)
     succ = np.load(MJ / "disagreement_success.npy")

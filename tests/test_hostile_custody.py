@@ -584,7 +584,7 @@ def _generalists_740(b: Path) -> str:
 def _m_cf_forged(b: Path) -> str:
     _csv_edit(b / "theory/metrics.csv", 5, M_CF=0.5)
     _reseal_manifest(b, "theory/metrics.csv")
-    return "M_CF != generalists / at_least_one"
+    return "M_CF != its value from the counts"
 
 
 def _at_least_one_below_env(b: Path) -> str:

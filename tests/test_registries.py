@@ -16,7 +16,20 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from morphlearn import cli, compare, config, configure, metrics, models, rules, settings, store, summary
+from morphlearn import (
+    bundle,
+    bundle_check,
+    cli,
+    compare,
+    config,
+    configure,
+    metrics,
+    models,
+    rules,
+    settings,
+    store,
+    summary,
+)
 from morphlearn.theory.plugin import Theory
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -65,6 +78,16 @@ def test_a_new_metric_is_one_registry_entry(
     # the comparison of two tables: a rank agreement for it too
     both = compare.joined(table, table)
     assert compare.agreement(both, n_resamples=50)["M_any"].rho == pytest.approx(1.0)
+    # a bundle keeps the outcome arrays of its best designs too; check-bundle recomputes it from the counts
+    best = int(metrics.rank_designs(table, "M_any").design.iloc[0])
+    monkeypatch.delitem(metrics.METRICS, "M_any")
+    without = set(bundle.drawn_designs(table, 3, top=1))
+    monkeypatch.setitem(metrics.METRICS, "M_any", M_ANY)
+    assert best not in without and best in bundle.drawn_designs(table, 3, top=1)  # kept for it alone
+    assert bundle_check.row_problems(table, m) == []
+    forged = table.assign(M_any=table.M_any.where(table.design != best, 0.0))
+    problems = bundle_check.row_problems(forged, m)
+    assert problems == [f"design {best}: M_any != its value from the counts (share succeeding once)"]
     # the CLI prints and returns it
     assert cli.main(["design", "--l1", "0.5", "0.5", "--l2", "0.5", "-0.5", "--weights", "3", "--json"]) == 0
     out = json.loads(capsys.readouterr().out.strip().splitlines()[-1])

@@ -120,3 +120,50 @@ def test_the_toy_reaches_rules_bundle_figures_and_reproduction(toy_project: Path
         assert "toy" in caption, (fig, caption[:500])
     repro = (bundle / "reproduction.md").read_text()
     assert any("toy" in line for line in repro.splitlines() if line.startswith("|")), repro[:2000]
+
+
+def _toy_model(reason: tuple[str, str] | None) -> object:
+    """A toy engine on the physics base (no simulation needed): the paper's engine with the
+    authors' robot, so its results answer the paper's physics claims, and its own reason or none."""
+    from morphlearn.physics.model import Physics
+
+    class ReasonToy(Physics):
+        name = "reasontoy"
+        engine = "reasontoy"
+        engine_label = "Toy"
+        robots = ("authors",)
+        paper_engine = True
+        differs_because = reason
+
+    return ReasonToy()
+
+
+def _differing_row(model: str) -> dict[str, str]:
+    from morphlearn.figures.reproduction import claims, table
+    from morphlearn.figures.reproduction.claim_values import Ours
+
+    claim = next(c for c in claims.CLAIMS if c.model == "physics" and c.kind == claims.COUNT)
+    far = float(claim.value) * 10 + 100  # type: ignore[arg-type]
+    return table.claim_row(claim, model, Ours(str(far), value=far), "toy.yaml")
+
+
+@pytest.mark.parametrize(
+    ("reason", "want"),
+    [
+        (("The toy's own reason.", "differs-toy"), ("The toy's own reason.", "differs-toy")),
+        (None, ("The authors' robot in Toy, at the designs this run holds.", "")),  # no KeyError: a generic one
+    ],
+)
+def test_a_toy_engine_gives_the_reason_of_its_paper_claim_row_that_differs(
+    monkeypatch: pytest.MonkeyPatch, reason: tuple[str, str] | None, want: tuple[str, str]
+) -> None:
+    """The reason text of a paper claim's row that differs comes from the engine that answers it
+    (its plug-in), not from a table of engine names in the analysis code."""
+    from morphlearn import models
+    from morphlearn.figures.reproduction.verdict import DIFFERS
+
+    monkeypatch.setitem(models.MODELS, "reasontoy", _toy_model(reason))
+    row = _differing_row("reasontoy")
+    assert row["verdict"] == DIFFERS and (row["reason"], row["anchor"]) == want
+    # the paper's engine keeps its committed reason (the bundles' reproduction rows)
+    assert _differing_row("ode")["reason"].startswith("The authors' robot in ODE")

@@ -31,68 +31,15 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from morphlearn.grid import ENV_ANGLES_DEG, DesignGrid, canonical_design
+from morphlearn.settings import AgreementSettings, Source  # the stage's settings (configure.parse)
 
 if TYPE_CHECKING:
     import pandas as pd
-
-    from morphlearn.settings import Settings
 
 #: Designs compared in the top-N overlap.
 TOP = 10
 #: Generalists per design "close" to the reference's: within this many (issue 56's acceptance).
 GENERALIST_SLACK = 2
-
-
-@dataclass(frozen=True)
-class Source:
-    """One survey: a committed bundle and the model whose results it holds."""
-
-    bundle: str
-    model: str
-
-    @property
-    def table(self) -> Path:
-        return Path(self.bundle) / self.model / "metrics.csv"
-
-    @property
-    def merged(self) -> Path:
-        return Path(self.bundle) / self.model / "merged.zarr"
-
-    def files(self) -> list[str]:
-        return [str(self.table), str(Path(self.bundle) / "bundle.json")]
-
-
-@dataclass(frozen=True)
-class AgreementSettings:
-    """``agreement``: the reference survey and the candidates (config_schema.yaml)."""
-
-    enabled: bool
-    reference: Source
-    candidates: tuple[Source, ...]
-
-    @classmethod
-    def of(cls, s: Settings) -> AgreementSettings:
-        # parsed here, beside its only user, as the engines stage's settings (engine_compare)
-        sec = s.source["agreement"]
-        return cls(
-            enabled=bool(sec["enabled"]),
-            reference=Source(**sec["reference"]),
-            candidates=tuple(Source(**c) for c in sec["candidates"]),
-        )
-
-    def sources(self) -> list[Source]:
-        return [self.reference, *self.candidates]
-
-    def inputs(self) -> dict[str, str]:
-        """The rule's inputs: every source's metrics table and bundle manifest."""
-        out = {}
-        for i, src in enumerate(self.sources()):
-            table, manifest = src.files()
-            out[f"s{i}_table"], out[f"s{i}_bundle"] = table, manifest
-        return out
-
-    def science(self) -> dict[str, Any]:
-        return {"reference": vars(self.reference), "candidates": [vars(c) for c in self.candidates]}
 
 
 @dataclass(frozen=True)
@@ -286,9 +233,12 @@ def screen(ref: Survey, cand: Survey, n: int = TOP) -> dict[str, Any]:
 
 
 def numbers(s: AgreementSettings) -> dict[str, Any]:
+    from morphlearn import models
+
     ref = read(s.reference)
-    if ref.engine != "ode":
-        raise ValueError(f"agreement.reference = {s.reference.model!r}: allowed: a survey of the ode model")
+    paper = models.paper_engine()
+    if ref.engine != models.get(paper).engine:
+        raise ValueError(f"agreement.reference = {s.reference.model!r}: allowed: a survey of the {paper} model")
     rows = [compare(ref, read(c)) for c in s.candidates]
     return {
         "reference": {"bundle": s.reference.bundle, "model": s.reference.model, "label": ref.label},

@@ -78,7 +78,7 @@ def drawn_designs(table: pd.DataFrame, n: int, top: int) -> np.ndarray:
             want.add(g.index_of(*design))
         except ValueError:  # not on this grid (a coarse test grid)
             pass
-    for by in ("M_L", "M_CF"):
+    for by in metrics.METRICS:
         want |= set(metrics.rank_designs(table, by).design.head(top).astype(int))
     want |= {int(g.mirror(d)) for d in want}
     return np.array(sorted(d for d in want if d in present), dtype=np.int64)

@@ -46,7 +46,7 @@ def _parse_screen(sec: Mapping[str, Any], grid: st.GridSettings) -> st.ScreenSet
     physics = models.physics()
     if sec["model"] not in physics:
         raise cfgmod.ConfigError(f"screen_from.model = {sec['model']!r} is not a physics model; allowed: {physics}")
-    screen, paper = models.get(sec["model"]), models.get(physics[0])  # the paper's engine: the registry's first
+    screen, paper = models.get(sec["model"]), models.get(models.paper_engine())
     assert isinstance(screen, Physics) and isinstance(paper, Physics)
     n = grid.positions_per_axis
     th, w, held = screen.check_results_bundle(sec["bundle"], n, key="screen_from.bundle", survey=True)
@@ -82,7 +82,7 @@ def parse(cfg: Mapping[str, Any]) -> st.Settings:
             raise cfgmod.ConfigError(
                 f"learners.shards = {learners.shards} exceeds the {n_run} designs the learners run; allowed: 1..{n_run}"
             )
-    coopt = st.section(st.CooptSettings, v["coopt"])
+    coopt = st.coopt_section(v["coopt"])
     st.check_coopt(coopt)
     return st.Settings(
         source=MappingProxyType(v),
@@ -94,6 +94,8 @@ def parse(cfg: Mapping[str, Any]) -> st.Settings:
         figures=figures,
         learners=learners,
         coopt=coopt,
+        engines=st.section(st.EnginesSettings, v["engines"]),
+        agreement=st.agreement_section(v["agreement"]),
         # each model parses its own section (schema defaults filled: {} when absent)
         models=MappingProxyType(
             {name: m.parse(v.get(name, {}), st.Shared(grid, sweep, figures)) for name, m in models.MODELS.items()}

@@ -16,20 +16,20 @@ Light imports only at module level: the Snakefile imports this module at parse t
 from __future__ import annotations
 
 import json
-from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from morphlearn import models
 from morphlearn.grid import ENV_ANGLES_DEG, DesignGrid, canonical_design, weights
 from morphlearn.physics.options import SweepOptions
+from morphlearn.settings import EnginesSettings  # the stage's settings (configure.parse)
 
 if TYPE_CHECKING:
     import pandas as pd
 
     from morphlearn.physics.params import EmpiricalParams
-    from morphlearn.settings import Settings
 
 #: Controllers per design in both engine surveys (11 x 11 weights).
 CELLS = 121
@@ -38,30 +38,11 @@ WEIGHTS = 11
 POSITIONS = 5
 #: The figure's mark of each engine's top designs by M_L.
 TOP = 10
-ENGINES = ("pybullet", "mujoco")
-
-
-@dataclass(frozen=True)
-class EnginesSettings:
-    """``engines``: the committed metrics tables the comparison reads (config_schema.yaml)."""
-
-    enabled: bool
-    pybullet: str
-    mujoco: str
-    theory: str
-
-    @classmethod
-    def of(cls, s: Settings) -> EnginesSettings:
-        # Parsed from the validated mapping (schema defaults filled) here, beside its only user,
-        # rather than as a field of Settings, so the stage stays one module and one rule file.
-        sec = s.source["engines"]
-        return cls(**{k: sec[k] for k in cls.__dataclass_fields__})
-
-    def tables(self) -> dict[str, str]:
-        return {"pybullet": self.pybullet, "mujoco": self.mujoco, "theory": self.theory}
-
-    def science(self) -> dict[str, Any]:
-        return {"tables": self.tables()}
+#: The two engines compared, as their tables' columns and the records name them (the registry's
+#: pair: pybullet and MuJoCo).
+ENGINES: tuple[str, str] = models.compared_engines()
+#: The reference model, whose ranking each engine's is set against (the theory).
+REFERENCE = models.REFERENCE
 
 
 def read_table(path: str | Path) -> pd.DataFrame:
@@ -75,17 +56,19 @@ def read_table(path: str | Path) -> pd.DataFrame:
     return pd.read_csv(path, comment="#")
 
 
-def tables(pybullet: pd.DataFrame, mujoco: pd.DataFrame, theory: pd.DataFrame) -> pd.DataFrame:
-    """One row per design: M_L, M_CF of pybullet, MuJoCo and theory, with each one's ranks."""
+def tables(first: pd.DataFrame, second: pd.DataFrame, reference: pd.DataFrame) -> pd.DataFrame:
+    """One row per design: M_L, M_CF of both engines (:data:`ENGINES` order) and the reference
+    model, with each one's ranks."""
     from morphlearn.compare import joined
 
-    engines = joined(pybullet, mujoco, names=ENGINES)
-    ranks = joined(theory, pybullet, names=("theory", "pybullet"))
-    both = engines.merge(ranks[["design", "M_L_theory", "M_CF_theory", "rank_M_L_theory"]], on="design", validate="1:1")
-    if len(both) != len(pybullet) or len(both) != len(mujoco):
+    a, b = ENGINES
+    engines = joined(first, second, names=ENGINES)
+    ranks = joined(reference, first, names=(REFERENCE, a))
+    keep = ["design", *(f"{c}_{REFERENCE}" for c in ("M_L", "M_CF", "rank_M_L"))]
+    both = engines.merge(ranks[keep], on="design", validate="1:1")
+    if len(both) != len(first) or len(both) != len(second):
         raise ValueError(
-            f"the tables do not cover the same designs: {len(pybullet)} pybullet, {len(mujoco)} mujoco, "
-            f"{len(both)} in both"
+            f"the tables do not cover the same designs: {len(first)} {a}, {len(second)} {b}, {len(both)} in both"
         )
     return both
 
@@ -107,22 +90,23 @@ def numbers(both: pd.DataFrame) -> dict[str, Any]:
         r = spearman_ci(sub[x].to_numpy(), sub[y].to_numpy(), x.rsplit("_", 1)[0])
         return {"rho": r.rho, "lo": r.low, "hi": r.high, "n": r.n}
 
+    a, b = ENGINES
     out: dict[str, Any] = {}
     for m in ("M_L", "M_CF"):
-        nz = (both[f"{m}_pybullet"] > 0) | (both[f"{m}_mujoco"] > 0)
-        out[f"{m} pybullet-mujoco"] = {
-            "all": rho(f"{m}_pybullet", f"{m}_mujoco"),
-            "nonzero_either": rho(f"{m}_pybullet", f"{m}_mujoco", nz),
+        nz = (both[f"{m}_{a}"] > 0) | (both[f"{m}_{b}"] > 0)
+        out[f"{m} {a}-{b}"] = {
+            "all": rho(f"{m}_{a}", f"{m}_{b}"),
+            "nonzero_either": rho(f"{m}_{a}", f"{m}_{b}", nz),
         }
     for e in ENGINES:
-        out[f"M_L theory-{e}"] = {"all": rho("M_L_theory", f"M_L_{e}")}
-    best = {e: both.loc[both[f"rank_M_L_{e}"] == 1].iloc[0] for e in (*ENGINES, "theory")}
+        out[f"M_L {REFERENCE}-{e}"] = {"all": rho(f"M_L_{REFERENCE}", f"M_L_{e}")}
+    best = {e: both.loc[both[f"rank_M_L_{e}"] == 1].iloc[0] for e in (*ENGINES, REFERENCE)}
     out["best_design_M_L"] = {
         e: {
             "design": int(r.design),
             "l1": [float(r.l1x), float(r.l1y)],
             "l2": [float(r.l2x), float(r.l2y)],
-            "generalists_of_121": int(np.rint(r[f"M_L_{e}"] * CELLS)) if e != "theory" else None,
+            "generalists_of_121": int(np.rint(r[f"M_L_{e}"] * CELLS)) if e != REFERENCE else None,
         }
         for e, r in best.items()
     }
@@ -137,7 +121,7 @@ def write_numbers(s: EnginesSettings, table_csv: str | Path, numbers_json: str |
     from morphlearn import provenance, store
 
     t = s.tables()
-    both = tables(*(read_table(t[k]) for k in ("pybullet", "mujoco", "theory")))
+    both = tables(*(read_table(t[k]) for k in (*ENGINES, REFERENCE)))
     stats = numbers(both)
     with store.atomic_path(Path(table_csv)) as tmp:
         both.to_csv(tmp, index=False)
@@ -148,14 +132,12 @@ def write_numbers(s: EnginesSettings, table_csv: str | Path, numbers_json: str |
     return stats
 
 
-def pick_design(pybullet: pd.DataFrame, mujoco: pd.DataFrame) -> int:
+def pick_design(first: pd.DataFrame, second: pd.DataFrame) -> int:
     """The design whose generalist counts differ most between the engines; ties: the larger sum
     of both, then the lower design index."""
-    t = pybullet[["design", "generalists"]].merge(
-        mujoco[["design", "generalists"]], on="design", suffixes=("_pb", "_mj")
-    )
-    t["diff"] = (t.generalists_pb - t.generalists_mj).abs()
-    t["sum"] = t.generalists_pb + t.generalists_mj
+    t = first[["design", "generalists"]].merge(second[["design", "generalists"]], on="design", suffixes=("_a", "_b"))
+    t["diff"] = (t.generalists_a - t.generalists_b).abs()
+    t["sum"] = t.generalists_a + t.generalists_b
     return int(t.sort_values(["diff", "sum", "design"], ascending=[False, False, True]).design.iloc[0])
 
 
@@ -170,46 +152,32 @@ def disagreement(s: EnginesSettings, params: EmpiricalParams) -> tuple[dict[str,
     (float64 (N, 2): pybullet's four environments, then MuJoCo's, each ``steps + 1`` points).
     """
 
-    from morphlearn.empirical.episode import EpisodeRunner
-    from morphlearn.empirical.episode import evaluate_design as pybullet_design
     from morphlearn.metrics import design_metrics
-    from morphlearn.mujoco.episode import BatchRunner
-    from morphlearn.mujoco.episode import evaluate_design as mujoco_design
 
-    pb_tab, mj_tab = read_table(s.pybullet), read_table(s.mujoco)
-    d = pick_design(pb_tab, mj_tab)
+    t = s.tables()
+    tabs = {e: read_table(t[e]) for e in ENGINES}
+    d = pick_design(*tabs.values())
     c = DesignGrid(POSITIONS).coords(d)
     l1, l2 = (float(c[0]), float(c[1])), (float(c[2]), float(c[3]))
     w = weights(WEIGHTS)
     opts = SweepOptions(early_stop=True)
-    succ = {
-        "pybullet": ~np.isnan(pybullet_design(l1, l2, w, params, options=opts).first_time),
-        "mujoco": ~np.isnan(mujoco_design(l1, l2, w, params, options=opts).first_time),
-    }
+    engine = {e: models.compared_model(e) for e in ENGINES}
+    succ = {e: ~np.isnan(m.design_evaluator()(l1, l2, w, params, options=opts).first_time) for e, m in engine.items()}
     gen = {e: (v.sum(axis=0) == 4) for e, v in succ.items()}
-    for e, tab in (("pybullet", pb_tab), ("mujoco", mj_tab)):
+    for e, tab in tabs.items():
         want = int(tab.set_index("design").loc[d, "generalists"])
         got = design_metrics(succ[e]).generalists
         if got != want:
             raise RuntimeError(f"design {d} in {e}: {got} generalists simulated, {want} in the committed table")
-    only = np.argwhere(gen["pybullet"] != gen["mujoco"])
+    a, b = ENGINES
+    only = np.argwhere(gen[a] != gen[b])
     i, j = (int(x) for x in only[0])
     w1, w2 = float(w[i]), float(w[j])
 
     # the four episodes of that controller, paths recorded, to contact or horizon (no early stop)
-    paths: dict[str, list[np.ndarray]] = {"pybullet": [], "mujoco": []}
-    closest: dict[str, list[float]] = {"pybullet": [], "mujoco": []}
-    with EpisodeRunner(params) as runner:
-        for env in range(4):
-            p: list[tuple[float, float]] = []
-            closest["pybullet"].append(runner.run(l1, l2, w1, w2, env, path=p).min_dist)
-            paths["pybullet"].append(np.array(p))
-    rec: list[np.ndarray] = []
-    closest["mujoco"] = (
-        BatchRunner(params).run(l1, l2, np.tile([w1, w2], (4, 1)), np.arange(4), path=rec).min_dist.tolist()
-    )
-    xy = np.stack(rec)  # (steps, 4, 2)
-    paths["mujoco"] = [xy[~np.isnan(xy[:, e, 0]), e] for e in range(4)]
+    closest, paths = {}, {}
+    for e, m in engine.items():
+        closest[e], paths[e] = m.centre_paths(params, l1, l2, (w1, w2))
 
     failed = {e: [ENV_ANGLES_DEG[k] for k in range(4) if not succ[e][k, i, j]] for e in succ}
     info = {
@@ -217,12 +185,9 @@ def disagreement(s: EnginesSettings, params: EmpiricalParams) -> tuple[dict[str,
         "l1": list(l1),
         "l2": list(l2),
         "generalists": {e: int(g.sum()) for e, g in gen.items()},
-        "generalist_in_one_engine_only": {
-            "pybullet": int((gen["pybullet"] & ~gen["mujoco"]).sum()),
-            "mujoco": int((gen["mujoco"] & ~gen["pybullet"]).sum()),
-        },
-        "cells_differing": int((succ["pybullet"] != succ["mujoco"]).sum()),
-        "cells": int(succ["pybullet"].size),
+        "generalist_in_one_engine_only": {a: int((gen[a] & ~gen[b]).sum()), b: int((gen[b] & ~gen[a]).sum())},
+        "cells_differing": int((succ[a] != succ[b]).sum()),
+        "cells": int(succ[a].size),
         "controller": [round(w1, 12), round(w2, 12)],
         "envs_failed_deg": failed,
         "steps": {e: [len(p) - 1 for p in paths[e]] for e in paths},
@@ -249,7 +214,7 @@ def write_disagreement(
     for path, arr in ((success_npy, success), (paths_npy, paths)):
         with store.atomic_path(Path(path)) as tmp, open(tmp, "wb") as f:
             np.save(f, arr)
-    rec = provenance.record({**s.science(), "body": params.to_dict()}, [s.pybullet, s.mujoco])
+    rec = provenance.record({**s.science(), "body": params.to_dict()}, [s.tables()[e] for e in ENGINES])
     provenance.write_sealed(provenance.sidecar_of(info_json), rec, [info_json, success_npy, paths_npy])
     return info
 

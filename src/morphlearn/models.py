@@ -64,6 +64,10 @@ class Registry(MutableMapping[str, Model]):
         return len(self._paths)
 
 
+#: The two physics engines the engine comparison (``engines``, config/engines.yaml) sets side by
+#: side, by registry name; the ``engines`` section names each one's table by its engine.
+COMPARED: tuple[str, str] = ("empirical", "mujoco")
+
 #: name -> model, every registered model.
 MODELS: Registry = Registry(PLUGINS)
 #: The reference model: figures need it, comparisons are against it.
@@ -116,3 +120,24 @@ def physics() -> list[str]:
     then in registry order."""
     found = [n for n, m in MODELS.items() if isinstance(m, Physics)]
     return sorted(found, key=lambda n: not MODELS[n].paper_engine)
+
+
+def paper_engine() -> str:
+    """The physics model of the engine the paper's physics ran in (``Physics.paper_engine``: ODE)."""
+    return next(n for n in physics() if MODELS[n].paper_engine)
+
+
+def compared_engines() -> tuple[str, str]:
+    """The engines of the engine comparison's pair (:data:`COMPARED`), as records and its tables'
+    columns name them (``Physics.engine``)."""
+    a, b = (MODELS[n] for n in COMPARED)
+    assert isinstance(a, Physics) and isinstance(b, Physics)
+    return a.engine, b.engine
+
+
+def compared_model(engine: str) -> Physics:
+    """The model of one engine of the comparison's pair."""
+    found = [m for m in (MODELS[n] for n in COMPARED) if isinstance(m, Physics) and m.engine == engine]
+    if not found:
+        raise ValueError(f"engine {engine!r} is not in the comparison; allowed: {list(compared_engines())}")
+    return found[0]

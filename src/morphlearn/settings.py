@@ -14,8 +14,9 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable, Mapping
-from dataclasses import asdict, dataclass
+from dataclasses import asdict, dataclass, fields
 from functools import cached_property
+from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -97,6 +98,16 @@ class LearnerSettings:
 
 
 @dataclass(frozen=True)
+class CooptRestartSettings:
+    """``coopt.restart``: the opt-in restarting evolution strategies (off while ``learners`` is empty)."""
+
+    learners: tuple[str, ...]
+    setups: tuple[str, ...]
+    sigmas: tuple[float, ...]
+    protocols: tuple[str, ...]
+
+
+@dataclass(frozen=True)
 class CooptSettings:
     """``coopt``: co-optimising the body against a four-synapse controller (issue 27; schema)."""
 
@@ -112,10 +123,80 @@ class CooptSettings:
     landscape_weights: int
     best_metrics: str
     bootstrap: int
+    #: the restart runs (their own jobs) and the stage's committed bundle folder: not science, so
+    #: turning restarts on re-runs none of the other jobs
+    restart: CooptRestartSettings = CooptRestartSettings((), (), (), ())  # off
+    bundle_dir: str | None = None
 
     def science(self) -> dict[str, Any]:
-        """What determines the stage's numbers (not the bootstrap of the summary)."""
-        return {k: list(v) if isinstance(v, tuple) else v for k, v in asdict(self).items() if k != "bootstrap"}
+        """What determines the stage's numbers (not the bootstrap of the summary, the restart runs
+        or the bundle folder)."""
+        skip = ("bootstrap", "restart", "bundle_dir")
+        return {
+            f.name: list(v) if isinstance(v := getattr(self, f.name), tuple) else v
+            for f in fields(self)
+            if f.name not in skip
+        }
+
+
+@dataclass(frozen=True)
+class EnginesSettings:
+    """``engines``: the committed metrics tables the engine comparison reads (config_schema.yaml),
+    by the engine (or reference model) whose survey each is."""
+
+    enabled: bool
+    pybullet: str
+    mujoco: str
+    theory: str
+
+    def tables(self) -> dict[str, str]:
+        """Each table by its key, in the section's order (the record's and the rule's inputs)."""
+        return {f.name: getattr(self, f.name) for f in fields(self) if f.name != "enabled"}
+
+    def science(self) -> dict[str, Any]:
+        return {"tables": self.tables()}
+
+
+@dataclass(frozen=True)
+class Source:
+    """One survey: a committed bundle and the model whose results it holds."""
+
+    bundle: str
+    model: str
+
+    @property
+    def table(self) -> Path:
+        return Path(self.bundle) / self.model / "metrics.csv"
+
+    @property
+    def merged(self) -> Path:
+        return Path(self.bundle) / self.model / "merged.zarr"
+
+    def files(self) -> list[str]:
+        return [str(self.table), str(Path(self.bundle) / "bundle.json")]
+
+
+@dataclass(frozen=True)
+class AgreementSettings:
+    """``agreement``: the reference survey and the candidates (config_schema.yaml)."""
+
+    enabled: bool
+    reference: Source
+    candidates: tuple[Source, ...]
+
+    def sources(self) -> list[Source]:
+        return [self.reference, *self.candidates]
+
+    def inputs(self) -> dict[str, str]:
+        """The rule's inputs: every source's metrics table and bundle manifest."""
+        out = {}
+        for i, src in enumerate(self.sources()):
+            table, manifest = src.files()
+            out[f"s{i}_table"], out[f"s{i}_bundle"] = table, manifest
+        return out
+
+    def science(self) -> dict[str, Any]:
+        return {"reference": vars(self.reference), "candidates": [vars(c) for c in self.candidates]}
 
 
 @dataclass(frozen=True)
@@ -173,6 +254,8 @@ class Settings:
     figures: FigureSettings
     learners: LearnerSettings
     coopt: CooptSettings
+    engines: EnginesSettings
+    agreement: AgreementSettings
     #: model name -> that model's parsed section (the model plug-in's own settings type)
     models: Mapping[str, Any]
     bundle_dir: str | None
@@ -227,6 +310,21 @@ def check_theory(th: Mapping[str, Any], name: Callable[[str], str | None]) -> No
 def section(cls: type, sec: Mapping[str, Any]) -> Any:
     """A dataclass from a config section: lists become tuples (frozen, hashable)."""
     return cls(**{k: tuple(sec[k]) if isinstance(sec[k], list) else sec[k] for k in cls.__dataclass_fields__})
+
+
+def coopt_section(sec: Mapping[str, Any]) -> CooptSettings:
+    """The ``coopt`` section, its ``restart`` subsection typed too."""
+    plain = {k: v for k, v in sec.items() if k != "restart"}
+    restart = section(CooptRestartSettings, sec["restart"])
+    return section(CooptSettings, {**plain, "restart": restart})
+
+
+def agreement_section(sec: Mapping[str, Any]) -> AgreementSettings:
+    return AgreementSettings(
+        enabled=bool(sec["enabled"]),
+        reference=Source(**sec["reference"]),
+        candidates=tuple(Source(**c) for c in sec["candidates"]),
+    )
 
 
 def check_coopt(c: CooptSettings) -> None:

@@ -8,7 +8,7 @@ import yaml
 
 from morphlearn import configure
 from morphlearn import config as cfgmod
-from morphlearn import agreement, engine_compare
+from morphlearn import engine_compare
 from morphlearn import bundle as bundlemod
 from morphlearn import models, provenance, results_check, rules, settings
 from morphlearn.learners import experiment as learner_experiment
@@ -150,9 +150,9 @@ def figure_data(fig):
 
 # The engine comparison (config/engines.yaml): the committed tables it reads; when enabled the run
 # makes (or, render_only, re-renders) only its figures, from its own stored outputs.
-ENGINES = engine_compare.EnginesSettings.of(S)
+ENGINES = S.engines
 # The agreement stage (config/agreement.yaml): likewise, the committed surveys it reads.
-AGREEMENT = agreement.AgreementSettings.of(S)
+AGREEMENT = S.agreement
 
 # render_only: refuse to start, by name, when a stored result is missing or fails its digests.
 if RENDER_ONLY and FIGURES and not (ENGINES.enabled or AGREEMENT.enabled):

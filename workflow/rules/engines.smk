@@ -36,8 +36,8 @@ rule engines_numbers:
 
 rule engines_disagreement:
     input:
-        pybullet=ENGINES.pybullet,
-        mujoco=ENGINES.mujoco,
+        # the two engines' tables (the registry's pair, models.COMPARED)
+        **{e: ENGINES.tables()[e] for e in engine_compare.ENGINES},
         code=figure_registry.notebook_modules(
             "workflow/scripts/engines_disagreement.py", "src"
         ),
@@ -56,6 +56,6 @@ rule engines_disagreement:
     params:
         engines=ENGINES.science(),
         # the body both engines simulate (empirical.morphology): its values are the rerun trigger
-        body=S.models["empirical"].params.to_dict(),
+        body=S.models[models.reference_physics()].params.to_dict(),
     script:
         "../scripts/engines_disagreement.py"

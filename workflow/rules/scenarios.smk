@@ -105,10 +105,14 @@ rule scenario_metrics:
         record=lambda w: {
             "scenario": w.scenario,
             "overrides": SCENARIOS[w.scenario].overrides,
-            "theory": dict(SCENARIOS[w.scenario].settings.source["theory"]),
+            "theory": dict(
+                SCENARIOS[w.scenario].settings.models[models.REFERENCE].section
+            ),
             "answer": asdict(PLAN.answers[w.scenario]),
             "simulated": dict(
-                PLAN.sims[PLAN.answers[w.scenario].sim].source["theory"]
+                PLAN.sims[PLAN.answers[w.scenario].sim]
+                .models[models.REFERENCE]
+                .section
             ),
         },
     script:

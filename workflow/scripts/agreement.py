@@ -17,7 +17,7 @@ s = setup(snakemake)  # noqa: F821
 from morphlearn import agreement  # noqa: E402
 
 agreement.write(
-    agreement.AgreementSettings.of(s),
+    s.agreement,
     snakemake.output.table,  # noqa: F821
     snakemake.output.numbers,  # noqa: F821
 )

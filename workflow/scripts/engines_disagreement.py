@@ -15,11 +15,11 @@ sys.path.insert(0, str(Path(snakemake.scriptdir)))  # noqa: F821
 from _entry import setup
 
 s = setup(snakemake)  # noqa: F821
-from morphlearn import engine_compare  # noqa: E402
+from morphlearn import engine_compare, models  # noqa: E402
 
 engine_compare.write_disagreement(
-    engine_compare.EnginesSettings.of(s),
-    s.models["empirical"].params,
+    s.engines,
+    s.models[models.reference_physics()].params,
     snakemake.output.info,  # noqa: F821
     snakemake.output.success,  # noqa: F821
     snakemake.output.paths,  # noqa: F821

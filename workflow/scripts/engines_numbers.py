@@ -16,7 +16,7 @@ s = setup(snakemake)  # noqa: F821
 from morphlearn import engine_compare  # noqa: E402
 
 engine_compare.write_numbers(
-    engine_compare.EnginesSettings.of(s),
+    s.engines,
     snakemake.output.table,  # noqa: F821
     snakemake.output.numbers,  # noqa: F821
 )

@@ -31,18 +31,12 @@ RUN_ORDER = ["setup", "learner", "sigma0", "protocol", "budget", "seed"]
 def restart_settings(s: Settings) -> CooptSettings | None:
     """The restart runs' settings (``coopt.restart``): the stage's seeds, budgets, cycles and
     bootstrap with the restart section's learners, setups, steps and protocols; None when off."""
-    # Read from the validated mapping (defaults filled) rather than a field of CooptSettings: the
-    # stage's science() is unchanged by it, so turning restarts on re-runs none of the other jobs.
-    r = s.source["coopt"]["restart"]
-    if not r["learners"]:
+    # CooptSettings.science() leaves the restart section out, so turning restarts on re-runs none
+    # of the other jobs
+    r = s.coopt.restart
+    if not r.learners:
         return None
-    return dataclasses.replace(
-        s.coopt,
-        learners=tuple(r["learners"]),
-        setups=tuple(r["setups"]),
-        sigmas=tuple(r["sigmas"]),
-        protocols=tuple(r["protocols"]),
-    )
+    return dataclasses.replace(s.coopt, learners=r.learners, setups=r.setups, sigmas=r.sigmas, protocols=r.protocols)
 
 
 def restart_science(s: Settings) -> dict[str, Any] | None:
@@ -53,7 +47,7 @@ def restart_science(s: Settings) -> dict[str, Any] | None:
 
 def bundle_dir(s: Settings) -> str | None:
     """The stage's committed bundle folder (``coopt.bundle_dir``), or None."""
-    return s.source["coopt"]["bundle_dir"]
+    return s.coopt.bundle_dir
 
 
 def variant_names(s: CooptSettings) -> list[str]:

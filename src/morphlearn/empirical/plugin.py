@@ -7,9 +7,12 @@ from __future__ import annotations
 from collections.abc import Callable
 from typing import TYPE_CHECKING
 
+import numpy as np
+
 from morphlearn.physics.model import Physics
 
 if TYPE_CHECKING:
+    from morphlearn.physics.params import EmpiricalParams
     from morphlearn.results import DesignResult
 
 
@@ -35,3 +38,17 @@ class Pybullet(Physics):
 
             return evaluate_design
         return super().robot_evaluator(robot)
+
+    def centre_paths(
+        self, params: EmpiricalParams, l1: tuple[float, float], l2: tuple[float, float], w: tuple[float, float]
+    ) -> tuple[list[float], list[np.ndarray]]:
+        from morphlearn.empirical.episode import EpisodeRunner
+
+        closest, paths = [], []
+        with EpisodeRunner(params) as runner:
+            for env in range(4):
+                p: list[tuple[float, float]] = []
+                closest.append(runner.run(l1, l2, w[0], w[1], env, path=p).min_dist)
+                paths.append(np.array(p))
+        return closest, paths
+

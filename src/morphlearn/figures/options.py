@@ -8,9 +8,9 @@ from __future__ import annotations
 from collections.abc import Callable
 from typing import Any
 
-from morphlearn import agreement, engine_compare, models
+from morphlearn import models
 from morphlearn.figures.registry import FIGURES as FIGURE_SPECS
-from morphlearn.figures.registry import PHYSICS
+from morphlearn.figures.registry import PHYSICS, REFERENCE_PHYSICS
 from morphlearn.settings import Settings
 
 #: The paper's figures, drawn by every run; :func:`figures` adds those of enabled extra stages.
@@ -20,7 +20,7 @@ PAPER_FIGURES = tuple(f for f, spec in FIGURE_SPECS.items() if spec.needs is Non
 def empirical_survey(s: Settings) -> bool:
     """A physics survey of every design of the grid: the run's (simulated, or read from a bundle
     that holds them all) or the bundle of ``survey_from`` (which the survey figure then draws)."""
-    e = s.models["empirical"]
+    e = s.models[models.reference_physics()]
     return s.survey.bundle is not None or (e.enabled and len(e.held) == s.grid.designs.size)
 
 
@@ -30,8 +30,8 @@ FIGURE_CONDITIONS: dict[str, Callable[[Settings], bool]] = {"empirical_survey": 
 STAGES: dict[str, Callable[[Settings], bool]] = {
     "learners": lambda s: s.learners.enabled,
     "coopt": lambda s: s.coopt.enabled,
-    "engines": lambda s: engine_compare.EnginesSettings.of(s).enabled,
-    "agreement": lambda s: agreement.AgreementSettings.of(s).enabled,
+    "engines": lambda s: s.engines.enabled,
+    "agreement": lambda s: s.agreement.enabled,
 }
 
 
@@ -122,7 +122,7 @@ def figure_options(s: Settings, fig: str) -> dict[str, Any]:
     """
     spec = FIGURE_SPECS[fig]
     opts: dict[str, Any] = {}
-    for name in spec.reads:
+    for name in map(_model, spec.reads):
         if name == PHYSICS:  # every enabled physics model, in registry order; the notebook loops
             opts["physics"] = {n: models.get(n).thresholds(s).__dict__ for n in _physics_on(s)}
             opts["physics_registered"] = models.physics()
@@ -143,9 +143,14 @@ def figure_options(s: Settings, fig: str) -> dict[str, Any]:
 def data_models(s: Settings, fig: str) -> list[str]:
     """The models whose results a figure reads (registry), those off left out."""
     out: list[str] = []
-    for name in FIGURE_SPECS[fig].reads:
+    for name in map(_model, FIGURE_SPECS[fig].reads):
         out += _physics_on(s) if name == PHYSICS else [name] if models.get(name).enabled(s) else []
     return out
+
+
+def _model(token: str) -> str:
+    """A ``reads`` token's model name (:data:`PHYSICS` stays a token)."""
+    return models.reference_physics() if token == REFERENCE_PHYSICS else token
 
 
 def _physics_on(s: Settings) -> list[str]:

@@ -28,6 +28,9 @@ PACKAGE = "morphlearn"
 
 #: The ``reads`` token for every registered physics model (:func:`morphlearn.models.physics`).
 PHYSICS = "physics"
+#: The ``reads`` token for the reference physics engine (:func:`morphlearn.models.reference_physics`:
+#: pybullet, the workflow's ``empirical`` results): the notebook's parameters name that model.
+REFERENCE_PHYSICS = "reference physics"
 
 
 @dataclass(frozen=True)
@@ -92,7 +95,7 @@ FIGURES: dict[str, Figure] = {
         reads=(), needs="agreement", files=("agreement.csv", "agreement.json", "agreement.provenance.json")
     ),
     # beyond the paper: theory against physics per design (issue 12; config/survey.yaml)
-    "survey": Figure(reads=("theory", "empirical"), needs="empirical_survey", options=("top",), survey=True),
+    "survey": Figure(reads=("theory", REFERENCE_PHYSICS), needs="empirical_survey", options=("top",), survey=True),
 }
 
 #: Every figure rule's input: the one matplotlib style all figures use.

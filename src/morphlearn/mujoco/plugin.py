@@ -20,6 +20,7 @@ from morphlearn.mujoco.episode import evaluate_design
 from morphlearn.physics.model import Physics, PhysicsSettings
 
 if TYPE_CHECKING:
+    from morphlearn.physics.params import EmpiricalParams
     from morphlearn.results import DesignResult
     from morphlearn.settings import Settings, Shared
 
@@ -58,6 +59,16 @@ class Mujoco(Physics):
             science = MappingProxyType({**science, "backend": backend})
         fields = {f.name: getattr(base, f.name) for f in dataclasses.fields(PhysicsSettings)}
         return MujocoModelSettings(**{**fields, "science": science}, backend=backend)
+
+    def centre_paths(
+        self, params: EmpiricalParams, l1: tuple[float, float], l2: tuple[float, float], w: tuple[float, float]
+    ) -> tuple[list[float], list[np.ndarray]]:
+        from morphlearn.mujoco.episode import BatchRunner
+
+        rec: list[np.ndarray] = []
+        closest = BatchRunner(params).run(l1, l2, np.tile(list(w), (4, 1)), np.arange(4), path=rec).min_dist.tolist()
+        xy = np.stack(rec)  # (steps, 4, 2)
+        return closest, [xy[~np.isnan(xy[:, e, 0]), e] for e in range(4)]
 
     @staticmethod
     def design_evaluator() -> Callable[..., DesignResult]:

@@ -97,6 +97,10 @@ class Physics(Model):
     figure_body: ClassVar[bool] = False
     #: The engine the paper's physics ran in (ODE): drawn and answered first where enabled.
     paper_engine: ClassVar[bool] = False
+    #: Why its answer to a paper claim differs, where no claim-specific reason says more (the
+    #: reproduction table's reason and its docs/results.md anchor); None: :meth:`differs_reason`'s
+    #: generic sentence.
+    differs_because: ClassVar[tuple[str, str] | None] = None
     #: Its ``evaluate_design`` takes ``partial=`` (a design resumes inside itself, see
     #: :mod:`morphlearn.physics.partial`): :meth:`evaluate` then keeps each running design's
     #: episodes where ``partial`` says (the run's design cache).
@@ -135,6 +139,13 @@ class Physics(Model):
             f"{self.engine_label or self.engine} with {self.robot_label(science)}: {' and '.join(what)} than "
             "the paper's (the authors' robot in the paper's engine), so not a verdict on its claim"
         )
+
+    def differs_reason(self) -> tuple[str, str]:
+        """(sentence, docs/results.md anchor) of a paper claim's row this engine answers and that
+        differs (the reproduction table's ``reason``, ``anchor``)."""
+        if self.differs_because is not None:
+            return self.differs_because
+        return f"The authors' robot in {self.engine_label or self.engine}, at the designs this run holds.", ""
 
     # -- settings ----------------------------------------------------------------------------------
     def parse(self, sec: Mapping[str, Any], shared: Shared) -> PhysicsSettings:
@@ -391,6 +402,15 @@ class Physics(Model):
         """The engine's ``evaluate_design(l1, l2, weights, params, progress=, options=)`` of its
         first robot."""
         raise NotImplementedError
+
+    def centre_paths(
+        self, params: EmpiricalParams, l1: tuple[float, float], l2: tuple[float, float], w: tuple[float, float]
+    ) -> tuple[list[float], list[np.ndarray]]:
+        """One controller's four episodes of its first robot, each to contact or horizon (no early
+        stop), with the centre path recorded: (closest approach per environment, centre path per
+        environment, float64 (steps + 1, 2)). The engine comparison's disagreement figure draws them;
+        an engine in that comparison (``models.COMPARED``) implements it."""
+        raise NotImplementedError(f"{self.name}: no recorded centre paths")
 
     def robot_evaluator(self, robot: str) -> Callable[..., DesignResult]:
         """The ``evaluate_design`` of ``robot`` (an engine with several robots overrides it)."""

@@ -7,7 +7,7 @@ import math
 import os
 import platform
 from collections.abc import Mapping
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 from types import MappingProxyType
 from typing import TYPE_CHECKING, Any
@@ -48,6 +48,8 @@ class TheorySettings:
     designs: tuple[int, ...]  # simulated: one of each mirror pair with mirror_symmetry
     science: Mapping[str, Any]
     results_from: str | None = None  # a bundle its results are read from instead (same science)
+    #: the section as validated (defaults filled), kept as data: a scenario's record names it whole
+    section: Mapping[str, Any] = field(default_factory=lambda: MappingProxyType({}))
 
 
 class Theory(Model):
@@ -86,6 +88,7 @@ class Theory(Model):
             mirror_symmetry=bool(sw.mirror_symmetry),
             designs=tuple(int(d) for d in designs),
             science=MappingProxyType(science),
+            section=MappingProxyType(dict(section)),
         )
 
     def _check_results_from(self, path: str, science: Mapping[str, Any]) -> None:

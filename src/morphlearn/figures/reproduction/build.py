@@ -68,7 +68,7 @@ def run(
     missing = [m for m, r in res.items() if r is None]
     if missing:
         raise FileNotFoundError(f"{missing[0]} is enabled but its results are missing under {results_dir}")
-    theory, emp = res.get("theory"), res.get("empirical")
+    theory, emp = res.get("theory"), res.get(physics_models()[0])  # the reference engine's
     if theory is None:
         raise FileNotFoundError(f"no theory results under {results_dir}")
     if stored_persistence is not None:

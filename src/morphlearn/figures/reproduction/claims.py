@@ -291,11 +291,6 @@ REASONS: dict[str, tuple[str, str]] = {
         "say which 6 it integrated or its rule for staying near.",
         "differs-theory-persistence",
     ),
-    # the paper's robot in the paper's engine, at the designs a run holds
-    "physics": (
-        "The authors' robot in ODE, at the designs this run holds; see the section.",
-        "differs-ode",
-    ),
 }
 
 #: The paper's column for rows beyond the paper (the learner stage, issue 15).

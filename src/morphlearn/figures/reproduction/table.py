@@ -36,10 +36,14 @@ def claim_engines(
 
 
 def reason_of(claim: Claim, model: str) -> tuple[str, str]:
-    """Why ours differs: (sentence, docs/results.md anchor), by claim, then by kind of model."""
-    for k in (claim.key, claim.model):
-        if k in REASONS:
-            return REASONS[k]
+    """Why ours differs: (sentence, docs/results.md anchor), by claim, else a physics claim's by
+    the engine that answers it (its plug-in's ``differs_reason``: a new engine brings its own)."""
+    from morphlearn import models
+
+    if claim.key in REASONS:
+        return REASONS[claim.key]
+    if claim.model == "physics":
+        return models.get(model if model in models.MODELS else models.paper_engine()).differs_reason()  # type: ignore[attr-defined]
     raise KeyError(f"no reason in claims.REASONS for {claim.key!r} ({model}), which differs")
 
 

@@ -18,7 +18,7 @@ import pandas as pd
 from morphlearn import grid as gridmod
 from morphlearn.figures import data as fd
 from morphlearn.figures.reproduction.claim_values import grid_scope, is_among, weights_scope
-from morphlearn.figures.reproduction.claims import CLAIMS, PAPER_PHYSICS_BEST_DESIGN, REASONS
+from morphlearn.figures.reproduction.claims import CLAIMS, PAPER_PHYSICS_BEST_DESIGN
 from morphlearn.figures.reproduction.inputs import TableInputs
 from morphlearn.figures.reproduction.selection import model_label, not_the_paper
 from morphlearn.figures.reproduction.text import config_note
@@ -84,7 +84,7 @@ def _why(r: Ruled, by: str, refined_label: str) -> str:
 def screen_rows(screen: fd.ModelResults, refined: fd.ModelResults, config_name: str) -> list[dict[str, str]]:
     """The best-design claims as the screen and its refinement answer them (verdicts when the
     refinement is the paper's robot in its engine, else beside the paper with its reason)."""
-    from morphlearn import metrics
+    from morphlearn import metrics, models
 
     m2 = refined.n_controllers
     checks = {by: ruled_out(screen.table, refined.table, by) for by in metrics.METRICS}
@@ -123,7 +123,7 @@ def screen_rows(screen: fd.ModelResults, refined: fd.ModelResults, config_name: 
         }
         if not other:
             said, why = verdict(claim.kind, claim.value, value, scope)
-            reason, anchor = REASONS["physics"] if said == DIFFERS else (why, "")
+            reason, anchor = models.get(refined.model).differs_reason() if said == DIFFERS else (why, "")  # type: ignore[attr-defined]
             row |= {"section": "paper", "model": f"{model_label(refined.model)}: screened", "source": claim.source}
             row |= {"verdict": said, "reason": reason, "anchor": anchor}
         out.append(row)

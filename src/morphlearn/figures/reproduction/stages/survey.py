@@ -6,7 +6,7 @@ from __future__ import annotations
 from morphlearn import grid as gridmod
 from morphlearn.figures import data as fd
 from morphlearn.figures.reproduction.claim_values import asymmetric, exists_scope, grid_scope
-from morphlearn.figures.reproduction.claims import BEYOND_MODELS, PAPER_PHYSICS_BEST_DESIGN, REASONS, YES_NO
+from morphlearn.figures.reproduction.claims import BEYOND_MODELS, PAPER_PHYSICS_BEST_DESIGN, YES_NO
 from morphlearn.figures.reproduction.inputs import TableInputs
 from morphlearn.figures.reproduction.selection import is_survey, model_label, not_the_paper, physics_models
 from morphlearn.figures.reproduction.text import config_note
@@ -17,7 +17,7 @@ def survey_rows(
     theory: fd.ModelResults,
     empirical: fd.ModelResults,
     config_name: str,
-    model: str = "empirical",
+    model: str | None = None,
     label: str = "empirical survey",
     refined: fd.ModelResults | None = None,
 ) -> list[dict[str, str]]:
@@ -31,6 +31,7 @@ def survey_rows(
     by its own metrics)."""
     from morphlearn import compare, metrics, models
 
+    model = model or physics_models()[0]  # default: the reference engine's table
     t = empirical.table
     n = len(t)
     names = (models.REFERENCE, model)
@@ -115,7 +116,8 @@ def survey_rows(
             continue
         where, ours, scope = source[row["key"].removeprefix(prefix)]
         said, why = verdict(YES_NO, True, ours, scope)
-        reason, anchor = REASONS["physics"] if said == DIFFERS else (why, "")
+        # judged: the paper's robot in the paper's engine, which says why it differs
+        reason, anchor = models.get(model).differs_reason() if said == DIFFERS else (why, "")  # type: ignore[attr-defined]
         row |= {"section": "paper", "model": f"{model_label(model)}: survey", "source": where}
         row |= {"verdict": said, "reason": reason, "anchor": anchor}
     return out
