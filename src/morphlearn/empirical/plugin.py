@@ -51,4 +51,3 @@ class Pybullet(Physics):
                 closest.append(runner.run(l1, l2, w[0], w[1], env, path=p).min_dist)
                 paths.append(np.array(p))
         return closest, paths
-
