@@ -6,10 +6,10 @@ from snakemake.utils import min_version
 # The package lives in src/; the workflow runs from a clone without installing it.
 sys.path.insert(0, f"{workflow.basedir}/src")
 
-from morphlearn import blas_kernel
+from morphlearn.workflow import blas_kernel
 
 # One BLAS kernel for every rule, notebook and job: the reference trajectories' last digits
-# depend on it (src/morphlearn/blas_kernel.py).
+# depend on it (src/morphlearn/workflow/blas_kernel.py).
 blas_kernel.pin()
 
 min_version("9.0")

@@ -135,7 +135,7 @@ def solved_cells(v: Variant, base: EmpiricalParams, m: int) -> tuple[np.ndarray,
 
 def ode_cells(m: int) -> tuple[np.ndarray, dict[int, np.ndarray]]:
     """ODE's cells solved per design and its successes (results/authors-engines, all designs)."""
-    from morphlearn.agreement import Source, read, solved
+    from morphlearn.analysis.agreement import Source, read, solved
 
     ref = read(Source("results/authors-engines", "ode"))
     if int(ref.science["weights"]) != m:

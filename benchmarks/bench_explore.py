@@ -1,5 +1,5 @@
 """What the explorer's live computation costs: a design's overlap matrix by the theory kernel
-(``morphlearn.explore.Explorer.landscape``, the paper bundle's parameters) at 41 x 41 and 121 x 121
+(``morphlearn.apps.explore.Explorer.landscape``, the paper bundle's parameters) at 41 x 41 and 121 x 121
 weights, on a random sample of the designs the bundle does not hold. A design's cost depends on how
 many of its trajectories run to the step cap (10,000 steps), so the spread is wide. Usage::
 
@@ -15,7 +15,7 @@ from pathlib import Path
 
 import numpy as np
 
-from morphlearn import explore
+from morphlearn.apps import explore
 
 
 def main() -> None:

@@ -23,7 +23,8 @@ from pathlib import Path
 
 import numpy as np
 
-from morphlearn import cli, config, explore
+from morphlearn import config
+from morphlearn.apps import cli, explore
 from morphlearn.ode import core
 from morphlearn.physics import params as pm
 

@@ -1,4 +1,4 @@
-"""A refine folder in the committed format (morphlearn.refine_folder), written for tests only: the
+"""A refine folder in the committed format (morphlearn.refine.folder), written for tests only: the
 project no longer writes refine folders (issue 58), but its reader and seeding must still refuse
 damaged or foreign ones, so tests forge them: a design's outcome arrays cut into w1 rows."""
 
@@ -12,7 +12,7 @@ from pathlib import Path
 import numpy as np
 
 from morphlearn import provenance
-from morphlearn import refine_folder as rf
+from morphlearn.refine import folder as rf
 
 _ZIP_DATE = (1980, 1, 1, 0, 0, 0)
 

@@ -1,4 +1,4 @@
-"""The agreement stage (morphlearn.agreement; issue 42): its statistics on made-up surveys whose
+"""The agreement stage (morphlearn.analysis.agreement; issue 42): its statistics on made-up surveys whose
 answers are known, its refusals, and the committed comparison against the bundles it was made from."""
 
 from __future__ import annotations
@@ -12,7 +12,7 @@ import pandas as pd
 import pytest
 from conftest import ode_only_config
 
-from morphlearn import agreement as ag
+from morphlearn.analysis import agreement as ag
 from morphlearn.grid import DesignGrid, canonical_design
 
 ROOT = Path(__file__).resolve().parents[1]

@@ -7,7 +7,7 @@ from pathlib import Path
 
 import pytest
 
-from morphlearn import blas_kernel
+from morphlearn.workflow import blas_kernel
 
 
 def _cpuinfo(tmp_path: Path, flags: str) -> Path:

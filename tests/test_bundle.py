@@ -1,4 +1,4 @@
-"""Results bundles (morphlearn.bundle, rule `bundle`): built from a real smoke run, checked,
+"""Results bundles (morphlearn.bundles.make, rule `bundle`): built from a real smoke run, checked,
 attacked, re-simulated and re-rendered from the bundle alone."""
 
 from __future__ import annotations
@@ -12,8 +12,14 @@ import pandas as pd
 import pytest
 from conftest import TEST_COMMIT, copy_workflow, job_stats, snakemake
 
-from morphlearn import bundle, bundle_check, bundle_rerender, cli, metrics, resimulate, rules, store
 from morphlearn import grid as gridmod
+from morphlearn import metrics, store
+from morphlearn.apps import cli
+from morphlearn.bundles import check as bundle_check
+from morphlearn.bundles import make as bundle
+from morphlearn.bundles import render as bundle_rerender
+from morphlearn.bundles import resimulate
+from morphlearn.workflow import rules
 
 
 @pytest.fixture(scope="module")

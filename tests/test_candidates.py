@@ -9,7 +9,8 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from morphlearn import candidates, grid
+from morphlearn import grid
+from morphlearn.analysis import candidates
 
 ROOT = Path(__file__).resolve().parents[1]
 

@@ -5,7 +5,7 @@ import sys
 import pytest
 from conftest import ROOT
 
-from morphlearn.cli import main
+from morphlearn.apps.cli import main
 
 #: What ``morphlearn design --json`` prints: the design and model it evaluated, then the metrics.
 DESIGN_JSON_KEYS = {"model", "design", "weights", "per_env", "generalists", "at_least_one", "M_L", "M_CF", "flagged"}
@@ -34,7 +34,9 @@ def test_design_json_has_exactly_the_documented_keys(capsys: pytest.CaptureFixtu
     ],
 )
 def test_bad_arguments_exit_2_with_one_line(args: list[str], msg: str) -> None:
-    proc = subprocess.run([sys.executable, "-m", "morphlearn.cli", "design", *args], capture_output=True, text=True)
+    proc = subprocess.run(
+        [sys.executable, "-m", "morphlearn.apps.cli", "design", *args], capture_output=True, text=True
+    )
     assert proc.returncode == 2
     assert msg in proc.stderr and proc.stderr.count("\n") == 1
     assert proc.stdout == ""
@@ -46,7 +48,7 @@ def test_empirical_design_json_is_clean_stdout() -> None:
         [
             sys.executable,
             "-m",
-            "morphlearn.cli",
+            "morphlearn.apps.cli",
             "design",
             "--model",
             "empirical",
@@ -76,7 +78,7 @@ def test_missing_morphology_file() -> None:
         [
             sys.executable,
             "-m",
-            "morphlearn.cli",
+            "morphlearn.apps.cli",
             "design",
             "--model",
             "empirical",
@@ -124,7 +126,7 @@ def test_refine_help_is_plain_text_for_a_terminal(capsys: pytest.CaptureFixture)
 
 def test_weights_below_two_is_refused_without_a_memory_note() -> None:
     proc = subprocess.run(
-        [sys.executable, "-m", "morphlearn.cli", "design", "--l1", "0", "0", "--l2", "0", "0", "--weights", "1"],
+        [sys.executable, "-m", "morphlearn.apps.cli", "design", "--l1", "0", "0", "--l2", "0", "0", "--weights", "1"],
         capture_output=True,
         text=True,
     )
@@ -137,7 +139,9 @@ def test_weights_below_two_is_refused_without_a_memory_note() -> None:
 )
 def test_design_text_names_what_simulated_it(model: str, says: str) -> None:
     args = ["design", "--model", model, "--l1", "0.5", "0.5", "--l2", "0.5", "-0.5", "--weights", "2"]
-    proc = subprocess.run([sys.executable, "-m", "morphlearn.cli", *args], capture_output=True, text=True, cwd=ROOT)
+    proc = subprocess.run(
+        [sys.executable, "-m", "morphlearn.apps.cli", *args], capture_output=True, text=True, cwd=ROOT
+    )
     assert proc.returncode == 0, proc.stderr
     assert says in proc.stdout, proc.stdout
 
@@ -153,7 +157,7 @@ def test_compare_counts_shared_top_designs_by_coordinates_across_grids(capsys: p
 
 
 def test_every_verb_has_one_help_line_and_every_option_help_text() -> None:
-    from morphlearn.cli import build_parser
+    from morphlearn.apps.cli import build_parser
 
     p = build_parser()
     sub = next(a for a in p._actions if a.dest == "cmd")

@@ -13,7 +13,9 @@ import numpy as np
 import pytest
 from conftest import ROOT
 
-from morphlearn import bundle, config, configure, models, rules, store
+from morphlearn import config, configure, models, store
+from morphlearn.bundles import make as bundle
+from morphlearn.workflow import rules
 
 SMOKE = config.load(ROOT / "config.yaml", [ROOT / "config/smoke.yaml"])
 #: A commit this history holds (the test runs in the repository: CI's clone holds HEAD).
@@ -141,8 +143,8 @@ def test_the_refine_folders_from_uncommitted_code_equal_their_clean_remake() -> 
     """The three exhaustive MuJoCo folders of results/refine whose manifests name a '-dirty' commit
     (made by the tool before the workflow could) are kept as made, and vouched for by their re-make
     at a clean commit, results/refine-exhaustive-mujoco: every cell of the three arrays the same."""
-    from morphlearn import refine_folder
     from morphlearn.figures import data as fd
+    from morphlearn.refine import folder as refine_folder
 
     dirty = sorted(
         f.parent.name for f in (ROOT / "results/refine").glob("*/manifest.json") if "-dirty" in f.read_text()

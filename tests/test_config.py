@@ -39,7 +39,7 @@ def test_bad_values_name_the_key(patch: dict, key: str, allowed: str) -> None:
 
 def test_positions_outside_body_refused() -> None:
     # Positions come from positions_per_axis over [-0.5, 0.5]; the CLI takes coordinates.
-    from morphlearn.cli import main
+    from morphlearn.apps.cli import main
 
     assert main(["design", "--l1", "0.6", "0", "--l2", "0", "0"]) == 2
 

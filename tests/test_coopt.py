@@ -10,11 +10,12 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from morphlearn import config, configure, provenance, rules, settings
+from morphlearn import config, configure, provenance, settings
 from morphlearn.coopt import experiment as ex
 from morphlearn.coopt.landscape import landscape
 from morphlearn.coopt.setups import CANONICAL, decode, paper_setups
 from morphlearn.theory import TheoryParams
+from morphlearn.workflow import rules
 
 ROOT = Path(__file__).resolve().parents[1]
 BEST = (-0.5, -0.375, 0.5, 0.375)

@@ -12,7 +12,9 @@ import pytest
 import yaml
 from conftest import ROOT, copy_workflow, job_stats, snakemake
 
-from morphlearn import config, configure, design_cache, models, rules, settings, store
+from morphlearn import config, configure, models, settings, store
+from morphlearn.physics import design_cache
+from morphlearn.workflow import rules
 
 SMOKE = config.load(ROOT / "config.yaml", [ROOT / "config/smoke.yaml"])
 # smoke, with two empirical designs (plus mirror images) so that both models can be re-sharded

@@ -24,7 +24,7 @@ import yaml
 from conftest import ROOT
 from scipy import stats
 
-from morphlearn import compare
+from morphlearn.analysis import compare
 from morphlearn.grid import DesignGrid
 
 RESULTS_MD = ROOT / "docs/results.md"

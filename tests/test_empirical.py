@@ -156,7 +156,7 @@ def test_optimise_is_deterministic_for_a_seed() -> None:
 
 def test_episode_progress_lines_are_throttled(capsys: pytest.CaptureFixture[str]) -> None:
     """Shard logs get an episode-level line at most every ``every_s`` seconds, and one at the end."""
-    from morphlearn.progress import EpisodeProgress
+    from morphlearn.physics.progress import EpisodeProgress
 
     t = iter([0.0, 1.0, 29.0, 31.0, 32.0, 40.0])  # start, then one reading per episode
     log = EpisodeProgress("design 7 (1/2)", every_s=30.0, clock=lambda: next(t))
@@ -182,8 +182,9 @@ def test_mirror_derive_simulates_one_of_each_pair(tmp_path: Path) -> None:
     derives the other (env mirrored, w1 <-> w2); the science record says so; a config that would
     derive designs it does not list is refused by name."""
     from morphlearn import config as cfgmod
-    from morphlearn import models, rules, store
+    from morphlearn import models, store
     from morphlearn.grid import DesignGrid
+    from morphlearn.workflow import rules
 
     root = Path(__file__).resolve().parents[1]
     cfg = cfgmod.load(root / "config.yaml", [root / "config/smoke.yaml"])

@@ -1,4 +1,4 @@
-"""The engine comparison (config/engines.yaml; morphlearn.engine_compare; figures engines and
+"""The engine comparison (config/engines.yaml; morphlearn.analysis.engines; figures engines and
 disagreement): its committed outputs in results/mujoco re-made from the committed tables and
 re-rendered by their notebooks to the same bytes, and the committed MuJoCo-pybullet comparison
 (results/mujoco/survey_compare.json, quoted in docs/results.md) recomputed from the tables."""
@@ -13,8 +13,9 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from morphlearn import configure, engine_compare
-from morphlearn.compare import spearman_ci
+from morphlearn import configure
+from morphlearn.analysis import engines as engine_compare
+from morphlearn.analysis.compare import spearman_ci
 from morphlearn.grid import DesignGrid, canonical_design
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -26,7 +27,7 @@ CONFIG = configure.load(ROOT / "config.yaml", [ROOT / "config/engines.yaml"])
 def _render(name: str, tmp_path: Path, files: tuple[str, ...], **extra: object) -> Path:
     """Run figure ``name``'s notebook on a copy of the committed inputs ``files`` (as its rule
     does: papermill, the project's src importable); returns the copy's figures folder."""
-    from morphlearn.bundle import render_notebook
+    from morphlearn.bundles.make import render_notebook
 
     run = tmp_path / "results" / "mujoco"
     (run / "figures").mkdir(parents=True)

@@ -1,4 +1,4 @@
-"""The explorer's logic (morphlearn.explore) on the committed bundles, its widgets driven by calls
+"""The explorer's logic (morphlearn.apps.explore) on the committed bundles, its widgets driven by calls
 (Agg backend), and the notebook executed headless with parameters (papermill)."""
 
 from __future__ import annotations
@@ -15,8 +15,10 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from morphlearn import bundle, explore, metrics
 from morphlearn import grid as gridmod
+from morphlearn import metrics
+from morphlearn.apps import explore
+from morphlearn.bundles import make as bundle
 
 matplotlib.use("Agg")
 
@@ -157,7 +159,7 @@ def test_trajectories_match_the_stored_first_success(paper: explore.Explorer) ->
 
 
 def test_app_selects_by_click_and_by_dropdown(tmp_path: Path) -> None:
-    from morphlearn import explore_app
+    from morphlearn.apps import explore_app
 
     app = explore_app.App(RESULTS, source="theory (paper)")
     ex = app.ex
@@ -236,7 +238,7 @@ def test_top_table_ranks_and_searches(paper: explore.Explorer) -> None:
 def test_hover_names_the_design_its_sensors_and_metrics(paper: explore.Explorer) -> None:
     import matplotlib.pyplot as plt
 
-    from morphlearn import explore_app
+    from morphlearn.apps import explore_app
 
     d = paper.design_of((0.5, 0.5), (0.5, -0.5))
     row = paper.row(d)
@@ -297,7 +299,7 @@ def test_layout_fits_the_page_and_nothing_is_clipped_inside_a_figure(paper: expl
     axes (maps, colour bars, matrix, trajectories) inside its figure."""
     import matplotlib.pyplot as plt
 
-    from morphlearn import explore_app
+    from morphlearn.apps import explore_app
 
     land = paper.landscape(paper.best("M_L"))
     w = paper.default_controller(land)
@@ -328,7 +330,7 @@ def test_layout_fits_the_page_and_nothing_is_clipped_inside_a_figure(paper: expl
 
 
 def test_app_keeps_the_design_across_sources_and_opens_a_shared_view() -> None:
-    from morphlearn import explore_app
+    from morphlearn.apps import explore_app
 
     app = explore_app.App(RESULTS, url_query="source=theory+%28paper%29&design=720&metric=M_CF&w=0.6,0.95")
     assert app.design == 720 and app.w == pytest.approx((0.6, 0.95)) and app.w_rank_by.value == "M_CF"
@@ -362,7 +364,7 @@ def test_app_keeps_the_design_across_sources_and_opens_a_shared_view() -> None:
 def test_status_done_only_when_the_page_has_drawn(tmp_path: Path) -> None:
     """With a page, an update says "sent" until the page echoes the token sent after its images;
     an image that went by the page's own request (draw_idle) is sent again first."""
-    from morphlearn import explore_app
+    from morphlearn.apps import explore_app
 
     app = explore_app.App(RESULTS, source="theory (paper)")
     app._has_page = lambda: True  # as under ipympl

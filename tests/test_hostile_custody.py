@@ -22,11 +22,16 @@ import pandas as pd
 import pytest
 from conftest import ROOT, TEST_COMMIT, copy_paper_sources, snakemake
 
-from morphlearn import bundle, bundle_check, cli, configure, metrics, provenance, resimulate, rules, store
 from morphlearn import config as config_mod
+from morphlearn import configure, metrics, provenance, store
 from morphlearn import settings as settings_mod
+from morphlearn.apps import cli
+from morphlearn.bundles import check as bundle_check
+from morphlearn.bundles import make as bundle
+from morphlearn.bundles import resimulate
 from morphlearn.figures import caption, data
 from morphlearn.grid import ENV_ANGLES_DEG
+from morphlearn.workflow import rules
 
 SMOKE = ("--configfile", "config/smoke.yaml")
 COORDS = ["l1x", "l1y", "l2x", "l2y"]
@@ -831,7 +836,7 @@ def test_mujoco_rows_resimulate_with_their_recorded_levers(mujoco_results: Path,
 def test_a_physics_only_run_bundles(mujoco_results: Path, tmp_path: Path) -> None:
     """A run of one physics model and no theory (config/survey9_mujoco.yaml) makes a bundle that
     checks out; a run with no model's results is refused by name."""
-    from morphlearn import bundle
+    from morphlearn.bundles import make as bundle
 
     out = tmp_path / "b"
     made = bundle.made_by(["config/survey9_mujoco.yaml", "config.yaml"], "results/survey9-mujoco-run")
@@ -885,7 +890,7 @@ def test_a_rerender_that_fails_midway_leaves_the_bundle_unchanged(
     """Issue 38: figures 1, 3 and 4 rewritten, then a notebook failed, and nothing was restored
     (check-bundle failed after). Now the render runs on a copy beside the bundle: the same failure
     midway leaves every file of the bundle as it was, and the copy is gone."""
-    from morphlearn import bundle_rerender
+    from morphlearn.bundles import render as bundle_rerender
 
     before = _snapshot(paper_copy)
 

@@ -27,7 +27,9 @@ import pytest
 import yaml
 from conftest import ROOT, TEST_COMMIT, copy_workflow
 
-from morphlearn import bundle_rerender, cli, config, configure, explore
+from morphlearn import config, configure
+from morphlearn.apps import cli, explore
+from morphlearn.bundles import render as bundle_rerender
 from morphlearn.ode import core as odecore
 from morphlearn.physics import params as paramsmod
 
@@ -51,7 +53,7 @@ def _body(tmp_path: Path, key: str, value: str) -> Path:
 
 def _ml(*argv: str, timeout: float = 120) -> subprocess.CompletedProcess:
     """``morphlearn ARGV`` in its own process (an abort or a hang must not take the test run)."""
-    code = "import sys; from morphlearn.cli import main; sys.exit(main(sys.argv[1:]))"
+    code = "import sys; from morphlearn.apps.cli import main; sys.exit(main(sys.argv[1:]))"
     env = {**os.environ, "PYTHONPATH": str(ROOT / "src")}
     return subprocess.run(
         [sys.executable, "-c", code, *argv], cwd=ROOT, capture_output=True, text=True, timeout=timeout, env=env
@@ -482,7 +484,7 @@ def test_explorer_app_falls_back_with_a_note_on_the_page() -> None:
     import matplotlib
 
     matplotlib.use("Agg")
-    from morphlearn import explore_app
+    from morphlearn.apps import explore_app
 
     for query, needle in (("design=" + "7" * 5000, "URL design="), ("w=nan,nan", "URL w='nan,nan'")):
         app = explore_app.App(ROOT / "results", url_query=query)  # e3d6953: ValueError out of App

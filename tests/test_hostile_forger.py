@@ -21,7 +21,11 @@ import pandas as pd
 import pytest
 from conftest import ROOT, copy_workflow
 
-from morphlearn import bundle, bundle_check, cli, config, metrics, models, provenance, resimulate, store
+from morphlearn import config, metrics, models, provenance, store
+from morphlearn.apps import cli
+from morphlearn.bundles import check as bundle_check
+from morphlearn.bundles import make as bundle
+from morphlearn.bundles import resimulate
 
 ODE_PAPER = ROOT / "results" / "ode-paper"
 SURVEY = ROOT / "results" / "survey"
@@ -443,7 +447,7 @@ def test_the_workflow_refuses_them_before_planning_a_job(tmp_path: Path, committ
 @pytest.mark.parametrize("out", ["src/morphlearn/b", "tools/b", ".git/b", "/proc/b", "results/link/b"])
 def test_the_other_bundle_writers_share_the_guard(project: Path, out: str, capsys: pytest.CaptureFixture) -> None:
     """Any other writer: a scenario bundle's folder (one guard)."""
-    from morphlearn import scenario_bundle
+    from morphlearn.bundles import scenario as scenario_bundle
 
     os.symlink("/proc", project / "results/link")
     assert scenario_bundle.main(["build", "results/scenarios", out]) == 2

@@ -24,7 +24,8 @@ import pytest
 import yaml
 from conftest import ROOT, TEST_COMMIT, copy_workflow, snakemake
 
-from morphlearn import cli, config, configure, scenarios
+from morphlearn import config, configure, scenarios
+from morphlearn.apps import cli
 
 SURVEY = ROOT / "results/survey"
 #: A small, valid theory-only config (the smoke grid; no file the figures read).
@@ -479,7 +480,7 @@ def test_morphlearn_run_refuses_a_bad_configfile_in_one_line(wf: Path, kind: str
 
 
 def test_morphlearn_run_finds_every_configfile_and_passes_good_ones_to_snakemake(wf: Path) -> None:
-    from morphlearn.cli import configfiles_of
+    from morphlearn.apps.cli import configfiles_of
 
     args = ["-n", "--configfile", "a.yaml", "b.yaml", "--cores", "1", "--configfiles=c.yaml", "all", "x"]
     assert configfiles_of(args) == ["a.yaml", "b.yaml", "c.yaml"]
@@ -575,7 +576,7 @@ def test_results_dir_allows_a_new_folder_the_default_and_the_re_render_of_a_bund
 
 def test_bundle_dir_refuses_a_source_folder_and_a_folder_inside_a_bundle() -> None:
     """bundle_dir shares the guard (config.source_folder): an absent folder under src/ was allowed."""
-    from morphlearn import bundle
+    from morphlearn.bundles import make as bundle
 
     made = bundle.made_by(["config/smoke.yaml", "config.yaml"], "results")
     for target, needle in (

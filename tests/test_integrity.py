@@ -16,9 +16,11 @@ import yaml
 from conftest import ROOT
 from test_reliability import REL_CONFIG, SCIENCE, SHARD_DESIGNS, G, W, _results, _shards
 
-from morphlearn import cli, config, configure, metrics, models, provenance, rules, store
+from morphlearn import config, configure, metrics, models, provenance, store
+from morphlearn.apps import cli
 from morphlearn.provenance import sha256_file
 from morphlearn.results import DesignResult
+from morphlearn.workflow import rules
 
 TH = metrics.Thresholds(500.0, 0.2, 500.0, 0.2)
 
@@ -79,7 +81,7 @@ def test_damaged_chunk_stops_metrics_by_name_before_anything_is_written(
     assert not csv.exists() and not csv.with_suffix(".provenance.json").exists()
     # verify: the same damage is unusable input (exit 2), one line naming it.
     proc = subprocess.run(
-        [sys.executable, "-m", "morphlearn.cli", "verify", "--merged", str(merged), "--samples", "2"],
+        [sys.executable, "-m", "morphlearn.apps.cli", "verify", "--merged", str(merged), "--samples", "2"],
         capture_output=True,
         text=True,
     )
@@ -203,7 +205,7 @@ def test_verify_counts_lost_successes(tmp_path: Path, capsys: pytest.CaptureFixt
 
 
 def test_near_boundary_excuses_only_a_failing_side_that_came_close() -> None:
-    from morphlearn.verify import Cell, near_boundary
+    from morphlearn.bundles.verify import Cell, near_boundary
 
     def cell(st_t: float, st_d: float, ref_t: float, ref_d: float) -> Cell:
         return Cell(0, 45, 0.0, 0.0, (0, 0), (0, 0), st_t, st_d, 0, ref_t, ref_d, 0)

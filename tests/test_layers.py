@@ -43,10 +43,10 @@ def test_contracts_kept_on_the_tree(tmp_path: Path) -> None:
 def test_a_planted_upward_import_breaks_the_contract(tmp_path: Path) -> None:
     src = _copy(tmp_path)
     grid = src / "morphlearn" / "grid.py"  # the core ...
-    late = "\n\ndef _late() -> None:\n    from morphlearn import cli  # noqa\n"  # ... up to the CLI
+    late = "\n\ndef _late() -> None:\n    from morphlearn.apps import cli  # noqa\n"  # ... up to the CLI
     grid.write_text(grid.read_text() + late)
     r = _lint(src)
-    assert r.returncode != 0 and "BROKEN" in r.stdout and "morphlearn.grid -> morphlearn.cli" in r.stdout, r.stdout
+    assert r.returncode != 0 and "BROKEN" in r.stdout and "morphlearn.grid -> morphlearn.apps.cli" in r.stdout, r.stdout
 
 
 def test_an_engine_importing_another_breaks_the_contract(tmp_path: Path) -> None:
@@ -101,8 +101,8 @@ def test_no_import_cycle() -> None:
     graph = grimp.build_graph("morphlearn", cache_dir=None)
     assert _cycles(graph) == []
     # the detector finds one where there is one (a two-module loop added to the graph)
-    graph.add_import(importer="morphlearn.grid", imported="morphlearn.cli")
-    assert any({"morphlearn.grid", "morphlearn.cli"} <= c for c in _cycles(graph))
+    graph.add_import(importer="morphlearn.grid", imported="morphlearn.apps.cli")
+    assert any({"morphlearn.grid", "morphlearn.apps.cli"} <= c for c in _cycles(graph))
 
 
 def test_the_registry_imports_no_plugin() -> None:

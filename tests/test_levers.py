@@ -11,7 +11,8 @@ import pandas as pd
 import pytest
 from scipy import integrate
 
-from morphlearn import compare, configure, metrics
+from morphlearn import configure, metrics
+from morphlearn.analysis import compare
 from morphlearn.empirical import EpisodeRunner, evaluate_design
 from morphlearn.physics.options import SweepOptions
 from morphlearn.physics.params import EmpiricalParams, load_params
@@ -291,7 +292,7 @@ def test_joined_pairs_a_subgrid_survey_by_coordinates() -> None:
 
 
 def test_compare_cli(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
-    from morphlearn.cli import main
+    from morphlearn.apps.cli import main
 
     x = np.linspace(0, 1, 20)
     _table(x, x).to_csv(tmp_path / "a.csv", index=False)

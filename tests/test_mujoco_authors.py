@@ -139,7 +139,7 @@ def test_evaluate_design_runs_the_sweep() -> None:
 def test_design_command_takes_the_robot(capsys: pytest.CaptureFixture) -> None:
     import json
 
-    from morphlearn import cli
+    from morphlearn.apps import cli
 
     args = ["design", "--l1", "0.5", "0.5", "--l2", "0.5", "-0.5", "--weights", "2", "--json"]
     assert cli.main([*args, "--model", "mujoco", "--robot", "authors"]) in (0, None)

@@ -192,7 +192,7 @@ def test_missing_library_is_one_line(monkeypatch) -> None:
 
 def test_design_cli_runs_the_ode_model() -> None:
     out = subprocess.run(
-        [sys.executable, "-m", "morphlearn.cli", "design", "--model", "ode", "--l1", "0.5", "0.5", "--l2", "0.5",
+        [sys.executable, "-m", "morphlearn.apps.cli", "design", "--model", "ode", "--l1", "0.5", "0.5", "--l2", "0.5",
          "-0.5", "--weights", "2"],
         capture_output=True, text=True,
     )  # fmt: skip
@@ -253,7 +253,8 @@ def test_shard_log_has_a_progress_line_per_design(tmp_path, capsys: pytest.Captu
     from pathlib import Path
 
     from morphlearn import config as cfgmod
-    from morphlearn import configure, rules
+    from morphlearn import configure
+    from morphlearn.workflow import rules
 
     root = Path(__file__).resolve().parents[1]
     cfg = cfgmod.load(root / "config.yaml", [root / "config/smoke.yaml"])

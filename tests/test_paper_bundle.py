@@ -16,7 +16,10 @@ import pandas as pd
 import pytest
 from conftest import ROOT, copy_paper_sources, copy_workflow, job_stats, snakemake
 
-from morphlearn import bundle, bundle_check, resimulate, rules
+from morphlearn.bundles import check as bundle_check
+from morphlearn.bundles import make as bundle
+from morphlearn.bundles import resimulate
+from morphlearn.workflow import rules
 
 BUNDLE = ROOT / "results" / "paper"
 #: What the bundle may weigh in git (issue 11).

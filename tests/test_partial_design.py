@@ -10,12 +10,14 @@ import pytest
 from conftest import Killed, counting_runs
 
 from morphlearn import config as cfgmod
-from morphlearn import configure, design_cache, models, rules
+from morphlearn import configure, models
 from morphlearn.empirical import evaluate_design
+from morphlearn.physics import design_cache
 from morphlearn.physics import partial as partial_cells
 from morphlearn.physics.options import SweepOptions
 from morphlearn.physics.params import EmpiricalParams, load_params
 from morphlearn.results import STATUS_INFERRED, DesignResult
+from morphlearn.workflow import rules
 
 ROOT = Path(__file__).resolve().parents[1]
 W = np.linspace(-1.0, 1.0, 5)

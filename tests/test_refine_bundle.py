@@ -12,10 +12,11 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from morphlearn import bundle_check, store
-from morphlearn import refine_folder as rf
-from morphlearn.bundle import MANIFEST, BundleError
+from morphlearn import store
+from morphlearn.bundles import check as bundle_check
+from morphlearn.bundles.make import MANIFEST, BundleError
 from morphlearn.figures import data as fd
+from morphlearn.refine import folder as rf
 from morphlearn.results import STATUS_INFERRED
 
 ROOT = Path(__file__).resolve().parents[1]

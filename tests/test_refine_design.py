@@ -1,4 +1,4 @@
-"""The committed refine folders (morphlearn.refine_folder: read-only history) and ``morphlearn
+"""The committed refine folders (morphlearn.refine.folder: read-only history) and ``morphlearn
 refine``: every row is verified before it is read, a damaged, foreign or edited row or manifest is
 refused or left out (said), and the committed folders assemble to their committed summaries."""
 
@@ -15,10 +15,10 @@ import pytest
 from refine_folders import write_folder
 
 from morphlearn import metrics
-from morphlearn import refine_folder as rf
 from morphlearn.grid import canonical_design
 from morphlearn.physics.options import SweepOptions
 from morphlearn.physics.params import load_params
+from morphlearn.refine import folder as rf
 from morphlearn.results import STATUS_NONFINITE, STATUS_OK
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -54,7 +54,9 @@ def _arrays(job: rf.Job, seed: int = 0) -> dict[str, np.ndarray]:
 
 def _refine(*args: str) -> subprocess.CompletedProcess[str]:
     """``morphlearn refine ARGS`` in its own process (as a user runs it)."""
-    return subprocess.run([sys.executable, "-m", "morphlearn.cli", "refine", *args], capture_output=True, text=True)
+    return subprocess.run(
+        [sys.executable, "-m", "morphlearn.apps.cli", "refine", *args], capture_output=True, text=True
+    )
 
 
 def test_assembled_is_the_rows_bit_for_bit_and_a_partial_folder_says_so(tmp_path: Path) -> None:

@@ -16,21 +16,13 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from morphlearn import (
-    bundle,
-    bundle_check,
-    cli,
-    compare,
-    config,
-    configure,
-    metrics,
-    models,
-    rules,
-    settings,
-    store,
-    summary,
-)
+from morphlearn import config, configure, metrics, models, settings, store
+from morphlearn.analysis import compare, summary
+from morphlearn.apps import cli
+from morphlearn.bundles import check as bundle_check
+from morphlearn.bundles import make as bundle
 from morphlearn.theory.plugin import Theory
+from morphlearn.workflow import rules
 
 ROOT = Path(__file__).resolve().parents[1]
 #: A metric no module knows: the share of controllers that succeed at least once.

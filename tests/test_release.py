@@ -14,7 +14,7 @@ import morphlearn
 
 def _version(env: dict[str, str]) -> str:
     proc = subprocess.run(
-        [sys.executable, "-m", "morphlearn.cli", "--version"],
+        [sys.executable, "-m", "morphlearn.apps.cli", "--version"],
         capture_output=True,
         text=True,
         env=env,

@@ -26,7 +26,8 @@ import xarray as xr
 import yaml
 from conftest import TEST_COMMIT, copy_workflow, job_stats, snakemake, written_results
 
-from morphlearn import cli, config, configure, grid, models, store
+from morphlearn import config, configure, grid, models, store
+from morphlearn.apps import cli
 from morphlearn.provenance import sha256_file
 from morphlearn.results import DesignResult
 
@@ -539,7 +540,7 @@ def test_verify_bad_arguments_exit_2_one_line(tmp_path: Path, args: list[str], m
     args = [a.format(m=tmp_path / "m.zarr", s=paths[0]) for a in args]
     listing = sorted(tmp_path.rglob("*"))
     proc = subprocess.run(
-        [sys.executable, "-m", "morphlearn.cli", "verify", *args], cwd=tmp_path, capture_output=True, text=True
+        [sys.executable, "-m", "morphlearn.apps.cli", "verify", *args], cwd=tmp_path, capture_output=True, text=True
     )
     assert proc.returncode == 2, proc.stderr
     assert proc.stderr.startswith("morphlearn verify: error: ") and msg in proc.stderr, proc.stderr

@@ -195,7 +195,7 @@ def test_the_paper_best_design_is_ranked_among_a_survey_that_lacks_it() -> None:
 
 
 def test_engine_agreement_on_a_few_shared_designs_is_one_row_not_four_undefined() -> None:
-    from morphlearn.compare import MIN_DESIGNS
+    from morphlearn.analysis.compare import MIN_DESIGNS
     from morphlearn.figures.reproduction.stages.engines import engine_rows
 
     emp = fd.load_results(ROOT / "results/paper", "empirical", None)
@@ -213,7 +213,7 @@ def test_a_rerender_reseals_the_table_with_its_record() -> None:
     """The reproduction rule writes the table and its sealed record together: a re-render that
     changes the table re-seals both (the record was refused as "not made by the render"), and
     still nothing the render does not make."""
-    from morphlearn import bundle_rerender
+    from morphlearn.bundles import render as bundle_rerender
 
     for rel in ("reproduction.md", "reproduction.html", "reproduction.provenance.json", "figures/fig3.png"):
         assert bundle_rerender.is_rendered(rel), rel
@@ -227,7 +227,10 @@ def test_a_rerender_moves_a_changed_record_once(tmp_path: Path, monkeypatch: pyt
     a render may leave beside a bundle; moving it twice failed with FileNotFoundError)."""
     import json
 
-    from morphlearn import bundle, bundle_check, bundle_rerender, provenance
+    from morphlearn import provenance
+    from morphlearn.bundles import check as bundle_check
+    from morphlearn.bundles import make as bundle
+    from morphlearn.bundles import render as bundle_rerender
 
     b = tmp_path / "b"
     b.mkdir()

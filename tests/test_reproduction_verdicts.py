@@ -21,7 +21,8 @@ import pandas as pd
 import pytest
 from conftest import ROOT
 
-from morphlearn import compare, grid, models
+from morphlearn import grid, models
+from morphlearn.analysis import compare
 from morphlearn.figures import data as fd
 from morphlearn.figures.reproduction import build, claims, writers
 from morphlearn.figures.reproduction.table import BEYOND_SECTION, OTHER_ROBOT, PAPER

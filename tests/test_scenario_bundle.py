@@ -1,4 +1,4 @@
-"""The committed scenario-set bundle (results/scenario-set; morphlearn.scenario_bundle): its figure
+"""The committed scenario-set bundle (results/scenario-set; morphlearn.bundles.scenario): its figure
 renders from the bundle alone, to the same bytes, and a damaged bundle is told apart."""
 
 from __future__ import annotations
@@ -11,7 +11,9 @@ import pandas as pd
 import pytest
 from conftest import TEST_COMMIT
 
-from morphlearn import bundle, bundle_check, scenario_bundle
+from morphlearn.bundles import check as bundle_check
+from morphlearn.bundles import make as bundle
+from morphlearn.bundles import scenario as scenario_bundle
 
 ROOT = Path(__file__).resolve().parents[1]
 BUNDLE = ROOT / "results" / "scenario-set"

@@ -1,4 +1,4 @@
-"""Another run's design cache seeds a config's partial files (morphlearn.seed.seed_designs): an
+"""Another run's design cache seeds a config's partial files (morphlearn.refine.seed.seed_designs): an
 exhaustive refinement of a design an adaptive survey simulated runs only the cells the survey did
 not, to the bytes of a run that had no file. In ODE (the authors' robot, real episodes)."""
 
@@ -14,11 +14,12 @@ if not core.available():  # CI and tools/setup.sh install libode-dev; elsewhere 
     pytest.skip("morphlearn.ode._core not built (no libode-dev)", allow_module_level=True)
 
 from morphlearn import config as cfgmod  # noqa: E402
-from morphlearn import configure, design_cache, models, store  # noqa: E402
-from morphlearn import refine_folder as rz  # noqa: E402
+from morphlearn import configure, models, store  # noqa: E402
 from morphlearn.ode import episode  # noqa: E402
+from morphlearn.physics import design_cache  # noqa: E402
+from morphlearn.refine import folder as rz  # noqa: E402
+from morphlearn.refine.seed import seed_designs  # noqa: E402
 from morphlearn.results import STATUS_INFERRED, DesignResult  # noqa: E402
-from morphlearn.seed import seed_designs  # noqa: E402
 from morphlearn.settings import Settings  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -117,7 +118,7 @@ def test_seed_cache_cli_bad_input_is_one_line(tmp_path: Path) -> None:
     import sys
 
     out = subprocess.run(
-        [sys.executable, "-m", "morphlearn.cli", "refine", "seed-cache", str(tmp_path), "--configfile",
+        [sys.executable, "-m", "morphlearn.apps.cli", "refine", "seed-cache", str(tmp_path), "--configfile",
          "config/ode_paper.yaml"],
         capture_output=True, text=True, cwd=ROOT,
     )  # fmt: skip

@@ -1,5 +1,5 @@
-"""An exhaustive refine folder (the committed format, morphlearn.refine_folder) seeds a workflow
-design's partial file (morphlearn.seed):
+"""An exhaustive refine folder (the committed format, morphlearn.refine.folder) seeds a workflow
+design's partial file (morphlearn.refine.seed):
 the workflow's adaptive run then simulates only the cells of its path the folder lacks, to the
 bytes of a run that had no file."""
 
@@ -16,13 +16,14 @@ from refine_folders import write_folder
 pytest.importorskip("pybullet")
 
 from morphlearn import config as cfgmod
-from morphlearn import configure, design_cache, models
-from morphlearn import refine_folder as rz
+from morphlearn import configure, models
 from morphlearn.empirical import evaluate_design
+from morphlearn.physics import design_cache
 from morphlearn.physics.options import SweepOptions
 from morphlearn.physics.params import load_params
+from morphlearn.refine import folder as rz
+from morphlearn.refine.seed import seed
 from morphlearn.results import STATUS_INFERRED, DesignResult
-from morphlearn.seed import seed
 from morphlearn.settings import Settings
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -167,7 +168,7 @@ def test_seed_takes_the_model_from_the_folders_engine(tmp_path: Path) -> None:
 def test_status_of_a_run_says_what_its_design_cache_holds(tmp_path: Path) -> None:
     """``morphlearn refine status --configfile``: a run's designs finished, and the episodes a
     design in progress holds (here: seeded from a folder), from its design cache."""
-    from morphlearn.refine_cli import run_progress
+    from morphlearn.refine.cli import run_progress
 
     s = _settings(tmp_path)
     model = models.get("empirical")

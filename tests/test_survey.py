@@ -13,7 +13,9 @@ import pytest
 import yaml
 from conftest import copy_workflow, job_stats, snakemake
 
-from morphlearn import bundle, bundle_check, configure, models
+from morphlearn import configure, models
+from morphlearn.bundles import check as bundle_check
+from morphlearn.bundles import make as bundle
 from morphlearn.figures import options
 
 # 81 designs (45 simulated with mirror derivation), 2 x 2 weights, a near light and a short

@@ -15,7 +15,8 @@ from pathlib import Path
 
 import pandas as pd
 
-from morphlearn import cli, config, metrics, provenance, store
+from morphlearn import config, metrics, provenance, store
+from morphlearn.apps import cli
 
 ROOT = Path.cwd()
 TMP = Path("/tmp/morphlearn-hostile-forger")

@@ -25,7 +25,7 @@ ENVS = {
     # the figure notebooks (papermill + nbconvert + a kernel), Fig. 1C's pybullet render
     "figures": [*CORE, "pybullet", "matplotlib", "seaborn", "papermill", "nbconvert", "ipykernel"],
     # no rule: the interactive explorer (notebooks/explore.ipynb; docs/explorer.md), for conda users
-    # (anywidget: the page bridge of morphlearn.explore_app: width, URL, downloads, drawn)
+    # (anywidget: the page bridge of morphlearn.apps.explore_app: width, URL, downloads, drawn)
     "explorer": [*CORE, "matplotlib", "ipywidgets", "ipympl", "anywidget", "voila", "papermill", "ipykernel"],
 }
 

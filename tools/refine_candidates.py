@@ -7,7 +7,7 @@
 
 Settings: ``--top`` designs per metric per survey, ``--positions`` of the refinement grid (9, the
 paper's). Inputs: metrics tables (each checked against its provenance record before it is read).
-Output: YAML on stdout (logic: :mod:`morphlearn.candidates`).
+Output: YAML on stdout (logic: :mod:`morphlearn.analysis.candidates`).
 """
 
 from __future__ import annotations
@@ -19,7 +19,8 @@ from pathlib import Path
 import pandas as pd
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "src"))
-from morphlearn import candidates, grid, provenance
+from morphlearn import grid, provenance
+from morphlearn.analysis import candidates
 
 
 def _table(path: str) -> pd.DataFrame:

@@ -108,8 +108,9 @@ def engine_constants() -> tuple[list[str], list[str]]:
 
 def per_shard() -> dict[str, int]:
     """Run one smoke shard of each model with counters on what the redesign builds once."""
-    from morphlearn import config, configure, grid, rules, settings
+    from morphlearn import config, configure, grid, settings
     from morphlearn.physics import params
+    from morphlearn.workflow import rules
 
     counts = {"design grids built": 0, "body files read": 0, "settings parsed": 0}
     real_post, real_load, real_parse = grid.DesignGrid.__post_init__, params.load_params, configure.parse

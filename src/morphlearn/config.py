@@ -214,7 +214,7 @@ def _is_file(p: Path) -> bool:
 def source_folder(path: str | Path) -> str | None:
     """Why ``path`` is no place for a run's output (None when it may be): it is the project
     folder, one that holds it, or one of the project's source folders or inside one. Shared by
-    the ``results_dir`` and the ``bundle_dir`` guards (:func:`morphlearn.bundle.check_target`)."""
+    the ``results_dir`` and the ``bundle_dir`` guards (:func:`morphlearn.bundles.make.check_target`)."""
     target, here = Path(path).resolve(), Path.cwd().resolve()
     if target in (here, *here.parents):
         return "is the project folder or one that holds it"
@@ -231,7 +231,7 @@ def bundle_holding(path: str | Path) -> Path | None:
 
 
 #: The name of the working copy a re-render of a bundle renders into, beside it
-#: (:func:`morphlearn.bundle_rerender.rendered_copy`): the one hidden folder a run may write, and
+#: (:func:`morphlearn.bundles.render.rendered_copy`): the one hidden folder a run may write, and
 #: only as a render_only run with the bundle's own configs.
 RERENDER_PREFIX = ".rerender-"
 

@@ -35,7 +35,7 @@ if TYPE_CHECKING:
 #: Called as each design of a batch finishes: (index in the batch, its result).
 Done = Callable[[int, "DesignResult"], None]
 #: Where a design (a flat index) keeps its finished episodes while it runs: the design cache's
-#: partial file (:func:`morphlearn.design_cache.partial_path`), which owns and removes it.
+#: partial file (:func:`morphlearn.physics.design_cache.partial_path`), which owns and removes it.
 PartialPath = Callable[[int], Path]
 
 

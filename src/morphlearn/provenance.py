@@ -154,7 +154,7 @@ def record(
 SEAL = "record_sha256"
 #: The digests of the files the record describes, by file name (a bundle copy keeps them valid).
 OUTPUTS = "outputs"
-#: A bundle's manifest (morphlearn.bundle.MANIFEST; here to keep this module free of imports).
+#: A bundle's manifest (morphlearn.bundles.make.MANIFEST; here to keep this module free of imports).
 _MANIFEST = "bundle.json"
 
 

@@ -1,5 +1,5 @@
 # The results bundle: a compact, checksummed copy of this run's results for committing
-# (src/morphlearn/bundle.py). Not part of `all`: `snakemake bundle` with a config that sets
+# (src/morphlearn/bundles/make.py). Not part of `all`: `snakemake bundle` with a config that sets
 # bundle_dir (config/paper.yaml).
 
 

@@ -8,9 +8,10 @@ import yaml
 
 from morphlearn import configure
 from morphlearn import config as cfgmod
-from morphlearn import engine_compare
-from morphlearn import bundle as bundlemod
-from morphlearn import models, provenance, results_check, rules, settings
+from morphlearn.analysis import engines as engine_compare
+from morphlearn.bundles import make as bundlemod
+from morphlearn import models, provenance, settings
+from morphlearn.workflow import results_check, rules
 from morphlearn.learners import experiment as learner_experiment
 from morphlearn.coopt import stage as coopt_stage
 from morphlearn.figures import options as figure_options

@@ -14,7 +14,7 @@ sys.path.insert(0, str(Path(snakemake.scriptdir)))  # noqa: F821
 from _entry import setup
 
 s = setup(snakemake)  # noqa: F821
-from morphlearn import agreement  # noqa: E402
+from morphlearn.analysis import agreement  # noqa: E402
 
 agreement.write(
     s.agreement,

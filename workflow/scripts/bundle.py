@@ -7,7 +7,8 @@ sys.path.insert(0, str(Path(snakemake.scriptdir)))  # noqa: F821
 from _entry import setup
 
 S = setup(snakemake)  # noqa: F821
-from morphlearn import bundle, models  # noqa: E402
+from morphlearn import models  # noqa: E402
+from morphlearn.bundles import make as bundle  # noqa: E402
 
 p = snakemake.params  # noqa: F821
 made_by = bundle.made_by(list(p.configs), p.results)

@@ -15,7 +15,8 @@ sys.path.insert(0, str(Path(snakemake.scriptdir)))  # noqa: F821
 from _entry import setup
 
 s = setup(snakemake)  # noqa: F821
-from morphlearn import engine_compare, models  # noqa: E402
+from morphlearn import models  # noqa: E402
+from morphlearn.analysis import engines as engine_compare  # noqa: E402
 
 engine_compare.write_disagreement(
     s.engines,

@@ -7,7 +7,7 @@ sys.path.insert(0, str(Path(snakemake.scriptdir)))  # noqa: F821
 from _entry import setup
 
 setup(snakemake)  # noqa: F821
-from morphlearn import bundle_check  # noqa: E402
+from morphlearn.bundles import check as bundle_check  # noqa: E402
 
 out = snakemake.output  # noqa: F821
 model = snakemake.params.model  # noqa: F821

@@ -8,6 +8,6 @@ from _entry import setup
 
 smk = snakemake  # noqa: F821
 s = setup(smk, smk.params.cfg)
-from morphlearn import summary  # noqa: E402
+from morphlearn.analysis import summary  # noqa: E402
 
 summary.run_summary(s, dict(smk.input.items()), smk.output.json, smk.output.md, smk.output.provenance)

@@ -7,6 +7,6 @@ sys.path.insert(0, str(Path(snakemake.scriptdir)))  # noqa: F821
 from _entry import setup
 
 s = setup(snakemake)  # noqa: F821
-from morphlearn import rules  # noqa: E402
+from morphlearn.workflow import rules  # noqa: E402
 
 rules.run_shard(s, snakemake.params.model, int(snakemake.wildcards.shard), snakemake.output[0])  # noqa: F821

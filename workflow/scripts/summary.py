@@ -7,7 +7,7 @@ sys.path.insert(0, str(Path(snakemake.scriptdir)))  # noqa: F821
 from _entry import setup
 
 s = setup(snakemake)  # noqa: F821
-from morphlearn import summary  # noqa: E402
+from morphlearn.analysis import summary  # noqa: E402
 
 tables = dict(snakemake.input.items())  # noqa: F821
 out = snakemake.output  # noqa: F821

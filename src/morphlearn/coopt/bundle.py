@@ -1,5 +1,5 @@
 """The coopt stage's committed bundle (``results/coopt``): re-render its figure from the bundle
-alone and check every file against ``bundle.json``, as :mod:`morphlearn.scenario_bundle` does for
+alone and check every file against ``bundle.json``, as :mod:`morphlearn.bundles.scenario` does for
 the scenario set.
 
 The bundle holds the stage's outputs (``summary.csv``, ``runs.csv``, ``landscape.csv``,
@@ -20,9 +20,10 @@ import sys
 from pathlib import Path
 from typing import Any
 
-from morphlearn import bundle as bundlemod
-from morphlearn import bundle_check, provenance, store
-from morphlearn.bundle import MANIFEST
+from morphlearn import provenance, store
+from morphlearn.bundles import check as bundle_check
+from morphlearn.bundles import make as bundlemod
+from morphlearn.bundles.make import MANIFEST
 
 NOTEBOOK = "notebooks/coopt.ipynb"
 STYLE = "notebooks/style.mplstyle"
@@ -53,7 +54,7 @@ def _render(out_dir: Path, root: str | Path | None, sigma: float = SIGMA) -> flo
 
 def render(out_dir: str | Path, root: str | Path | None = None) -> tuple[float, list[str]]:
     """Re-render the figure of a coopt bundle in place; returns the wall seconds and the problems
-    :func:`morphlearn.bundle_check.check` then finds (empty: byte-identical to ``bundle.json``)."""
+    :func:`morphlearn.bundles.check.check` then finds (empty: byte-identical to ``bundle.json``)."""
     seconds = _render(Path(out_dir), root)
     return seconds, bundle_check.check(out_dir)
 

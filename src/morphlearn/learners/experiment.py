@@ -17,9 +17,10 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 import pandas as pd
 
-from morphlearn import design_cache, models, provenance, store
+from morphlearn import models, provenance, store
 from morphlearn.grid import split_shards
 from morphlearn.metrics import CSV_FLOAT_FORMAT
+from morphlearn.physics import design_cache
 from morphlearn.settings import LearnerSettings, Settings
 
 if TYPE_CHECKING:

@@ -10,7 +10,7 @@
 - :mod:`.reach`: the reach bound behind the early stop; :mod:`.refine`: the adaptive weight grid;
 - :mod:`.partial`: a running design's finished episodes (resume inside a design);
 - (the committed refine folders, one design row by row, are history read by
-  :mod:`morphlearn.refine_folder`; :mod:`morphlearn.seed` seeds a design's partial file from them.)
+  :mod:`morphlearn.refine.folder`; :mod:`morphlearn.refine.seed` seeds a design's partial file from them.)
 
 The engines are packages beside each other on this layer: :mod:`morphlearn.empirical` (pybullet),
 :mod:`morphlearn.mujoco`, :mod:`morphlearn.ode`. Nothing here imports an engine or anything above

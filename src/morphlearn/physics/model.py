@@ -29,7 +29,7 @@ from morphlearn.model_interface import Done, Model, PartialPath, Resources
 from morphlearn.physics.authors import success_radius
 from morphlearn.physics.options import SweepOptions
 from morphlearn.physics.params import EmpiricalParams, load_params
-from morphlearn.progress import EpisodeProgress
+from morphlearn.physics.progress import EpisodeProgress
 from morphlearn.results import DesignResult
 
 if TYPE_CHECKING:

@@ -4,7 +4,7 @@ A pybullet design on the paper's 121 x 121 weights is hours of one core, too lon
 to a killed job (SLURM time limit, Ctrl-C, a lost node). The physics sweep
 (:func:`morphlearn.physics.sweep.sweep`, every engine's) keeps its episodes done so far in one file
 (every ``CHECKPOINT_S`` seconds and when it stops on an error) and reads them back at its start
-(:func:`resume`); the design cache (:mod:`morphlearn.design_cache`) says where the file lives and
+(:func:`resume`); the design cache (:mod:`morphlearn.physics.design_cache`) says where the file lives and
 removes it once the design is stored. The cells already simulated are not
 simulated again, and since the adaptive grid chooses cells from outcomes alone, the resumed run
 takes the same path and gives the same bytes. The file names the design, weights, body and levers

@@ -11,7 +11,7 @@ data; the levers live here once.
   when the sweep stops on an error or a kill, :mod:`morphlearn.physics.partial`); a design resumes
   from it without simulating them again, to the same bytes (the adaptive grid chooses cells from
   outcomes alone). The design cache removes it once the design's result is stored
-  (:func:`morphlearn.design_cache.save`).
+  (:func:`morphlearn.physics.design_cache.save`).
 - ``progress(done, total)``: this run's episodes against those left (a resumed design's are done).
 
 :func:`sweep_designs` runs several designs' maps in each batch call (a GPU wants thousands of

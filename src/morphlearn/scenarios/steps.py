@@ -19,7 +19,8 @@ def run_metrics(
 ) -> None:
     """A scenario's metrics from its simulation at its thresholds (Plan.thresholds), and its record
     (overrides, simulation, how it is answered)."""
-    from morphlearn import rules, store
+    from morphlearn import store
+    from morphlearn.workflow import rules
 
     rules.run_metrics("theory", th, merged, out_csv)
     with store.atomic_path(Path(out_json)) as tmp:

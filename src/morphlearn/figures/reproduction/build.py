@@ -54,7 +54,7 @@ def run(
     and its refinement, each a bundle with its model and thresholds (config ``screen_from``), read
     where they are. ``stored_persistence``:
     a persistence table already made for these results (render_only; checked at start by
-    :func:`morphlearn.rules.check_stored_persistence`), read instead of integrated again."""
+    :func:`morphlearn.workflow.rules.check_stored_persistence`), read instead of integrated again."""
     corr = None
     if learners_enabled:
         provenance.check_derived(Path(results_dir) / "learners" / "correlations.csv")  # custody

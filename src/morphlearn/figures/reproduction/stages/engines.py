@@ -18,7 +18,8 @@ def engine_rows(
     """Beyond the paper: does a second physics engine rank the designs as the reference engine
     does? Spearman rho with 95 % bootstrap intervals over the designs both hold, and over those
     non-zero in either; top-10 overlap (ranks as :func:`metrics.rank_designs`)."""
-    from morphlearn import compare, metrics
+    from morphlearn import metrics
+    from morphlearn.analysis import compare
 
     both = compare.joined(reference.table, other.table, names=names)
     a, b = names

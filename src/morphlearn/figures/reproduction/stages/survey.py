@@ -29,7 +29,8 @@ def survey_rows(
     engine's designs simulated on the survey's weight grid, which hold the paper's best design
     when the survey's grid does not (the 5-point grid: it is then ranked among the survey's designs
     by its own metrics)."""
-    from morphlearn import compare, metrics, models
+    from morphlearn import metrics, models
+    from morphlearn.analysis import compare
 
     model = model or physics_models()[0]  # default: the reference engine's table
     t = empirical.table

@@ -21,7 +21,9 @@ from collections.abc import Iterator
 from contextlib import contextmanager
 from pathlib import Path, PurePosixPath
 
-from morphlearn import bounded, bundle, bundle_check, provenance, store
+from morphlearn import bounded, provenance, store
+from morphlearn.bundles import check as bundle_check
+from morphlearn.bundles import make as bundle
 
 #: Files of a bundle that a render writes (figures and the reproduction tables).
 RENDERED_SUFFIXES = (".png", ".pdf", ".caption.md")

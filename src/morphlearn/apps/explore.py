@@ -1,7 +1,7 @@
-"""The interactive explorer's logic (notebooks/explore.ipynb; widgets in morphlearn.explore_app).
+"""The interactive explorer's logic (notebooks/explore.ipynb; widgets in morphlearn.apps.explore_app).
 
 Reads a committed results bundle (checked against its manifest first, as
-``morphlearn.bundle_check.extract_model`` does), lays every design's M_L and M_CF out as one map over
+``morphlearn.bundles.check.extract_model`` does), lays every design's M_L and M_CF out as one map over
 sensor placements, and gives one design's overlap matrix: from the bundle when it holds the
 design's outcome arrays, otherwise computed live by the theory kernel with the bundle's own theory
 parameters and thresholds (timed). No plotting here, so all of it is tested headless.
@@ -27,9 +27,10 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
-from morphlearn import bounded, bundle_check, metrics, store
-from morphlearn import bundle as bundlemod
+from morphlearn import bounded, metrics, store
 from morphlearn import grid as gridmod
+from morphlearn.bundles import check as bundle_check
+from morphlearn.bundles import make as bundlemod
 from morphlearn.figures import data
 from morphlearn.models import MODELS, REFERENCE
 from morphlearn.theory import TheoryParams, evaluate

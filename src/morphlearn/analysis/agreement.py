@@ -126,7 +126,7 @@ def _best(table: pd.DataFrame, by: str) -> int:
 def compare(ref: Survey, cand: Survey) -> dict[str, Any]:
     """The candidate against the reference (see the module docstring)."""
     from morphlearn import metrics
-    from morphlearn.compare import spearman_ci
+    from morphlearn.analysis.compare import spearman_ci
 
     a = ref.table.set_index("design")
     b = cand.table.set_index("design")

@@ -1,5 +1,5 @@
 """The scenario set's results bundle: the small, committed record of a scenario run
-(``snakemake --cores 2 --config scenarios=all``; docs/scenarios.md), like ``morphlearn.bundle``'s
+(``snakemake --cores 2 --config scenarios=all``; docs/scenarios.md), like ``morphlearn.bundles.make``'s
 for a main run.
 
 It holds what the comparison figure and the numbers in docs/ come from, and nothing that needs the
@@ -14,8 +14,8 @@ manifest as a main bundle's, so ``morphlearn check-bundle`` checks it). The simu
 (papermill on notebooks/scenarios.ipynb), and checks it against the manifest: the figure renders
 from a fresh clone, to the same bytes. Usage::
 
-    python -m morphlearn.scenario_bundle build results/scenarios results/scenario-set
-    python -m morphlearn.scenario_bundle render results/scenario-set
+    python -m morphlearn.bundles.scenario build results/scenarios results/scenario-set
+    python -m morphlearn.bundles.scenario render results/scenario-set
 """
 
 from __future__ import annotations
@@ -29,8 +29,9 @@ from typing import Any
 
 import pandas as pd
 
-from morphlearn import __version__, bundle_check, config, provenance, store
-from morphlearn import bundle as bundlemod
+from morphlearn import __version__, config, provenance, store
+from morphlearn.bundles import check as bundle_check
+from morphlearn.bundles import make as bundlemod
 
 #: Files of the scenario folder copied as they are (paths relative to it).
 DATA = ("comparison.csv", "comparison.md", "text_values.csv")
@@ -166,7 +167,7 @@ def _render(out_dir: Path, root: str | Path | None) -> float:
     ``logs/``), as the rule ``scenario_report`` does. Paths are passed relative to the folder that
     holds ``results/`` (the caption names them), so a bundle renders alike wherever the project is."""
     out_dir = out_dir.resolve()
-    root = Path(root).resolve() if root else Path(__file__).resolve().parents[2]
+    root = Path(root).resolve() if root else Path(__file__).resolve().parents[3]
     cwd = out_dir.parents[1]  # <project>/results/<name>
     rel = out_dir.relative_to(cwd)
     params = {
@@ -182,13 +183,13 @@ def _render(out_dir: Path, root: str | Path | None) -> float:
 
 def render(out_dir: str | Path, root: str | Path | None = None) -> tuple[float, list[str]]:
     """Re-render the comparison figure of a bundle in place; returns the wall seconds and the
-    problems :func:`morphlearn.bundle_check.check` then finds (empty: the figure came out byte-identical)."""
+    problems :func:`morphlearn.bundles.check.check` then finds (empty: the figure came out byte-identical)."""
     seconds = _render(Path(out_dir), root)
     return seconds, bundle_check.check(out_dir)
 
 
 def main(argv: list[str] | None = None) -> int:
-    ap = argparse.ArgumentParser(prog="python -m morphlearn.scenario_bundle", description=__doc__.splitlines()[0])
+    ap = argparse.ArgumentParser(prog="python -m morphlearn.bundles.scenario", description=__doc__.splitlines()[0])
     sub = ap.add_subparsers(dest="cmd", required=True)
     b = sub.add_parser("build", help="bundle a finished scenario run")
     b.add_argument("scenarios_dir", help="the run's scenario folder (results/scenarios)")

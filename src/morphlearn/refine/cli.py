@@ -1,6 +1,6 @@
 """``morphlearn refine ACTION FOLDER``: read and check a committed refine folder (one physics design
 on an exhaustive weight grid, stored row by row: ``results/refine/*``, read-only history read by
-:mod:`morphlearn.refine_folder`), and seed a workflow run from it or from another run's design cache.
+:mod:`morphlearn.refine.folder`), and seed a workflow run from it or from another run's design cache.
 
 Actions: ``status`` (progress, cost, metrics; with ``--configfile``, a workflow run's progress from
 its design cache: designs finished, episodes of a design in progress), ``assemble`` (every row verified, the design's
@@ -37,7 +37,7 @@ def _log(msg: str) -> None:
 
 
 def _folder(path: Path) -> Path:
-    from morphlearn import refine_folder as rz
+    from morphlearn.refine import folder as rz
 
     if not path.is_dir():
         raise ValueError(f"{path}: no such folder (a refine folder holds manifest.json and rows/)")
@@ -50,7 +50,8 @@ def run_progress(s: Any) -> list[str]:
     """Where a workflow run (settings ``s``) stands, from its design cache: per simulated physics
     model, the designs finished and, for a design in progress, the episodes its partial file holds
     (the run resumes from them). One line per model and per design in progress."""
-    from morphlearn import design_cache, models
+    from morphlearn import models
+    from morphlearn.physics import design_cache
     from morphlearn.physics import partial as partial_cells
 
     lines = []
@@ -80,7 +81,7 @@ def run_progress(s: Any) -> list[str]:
 
 
 def status(a: argparse.Namespace) -> int:
-    from morphlearn import refine_folder as rz
+    from morphlearn.refine import folder as rz
 
     if a.configfile:
         if a.folder is not None:
@@ -125,7 +126,7 @@ def status(a: argparse.Namespace) -> int:
 
 def _summary(folder: Path) -> tuple[Any, dict[str, Any]]:
     """The assembled folder (every row verified) and its summary as ``assemble`` prints it."""
-    from morphlearn import refine_folder as rz
+    from morphlearn.refine import folder as rz
 
     asm = rz.assemble(_folder(folder), log=_log)
     return asm, rz.summary(asm) | {"cost": rz.cost(folder), "run_key": asm.manifest["run_key"]}
@@ -140,8 +141,8 @@ def assemble(a: argparse.Namespace) -> int:
 def adaptive(a: argparse.Namespace) -> int:
     """The adaptive weight grid's misses at each ``--near``, replayed on a complete folder."""
     from morphlearn import metrics
-    from morphlearn import refine_folder as rz
     from morphlearn.physics.refine import misses, simulated_mask
+    from morphlearn.refine import folder as rz
     from morphlearn.results import STATUS_OK
 
     if not all(v > 0 and np.isfinite(v) for v in a.near):
@@ -184,7 +185,7 @@ def survey_check(folder: Path, merged: str | Path) -> dict[str, object]:
     adaptive grid only skips cells); the survey's inferred cells, where its adaptive grid could
     miss successes, are counted apart."""
     from morphlearn import metrics, store
-    from morphlearn import refine_folder as rz
+    from morphlearn.refine import folder as rz
     from morphlearn.results import STATUS_INFERRED
 
     asm = rz.assemble(_folder(folder))
@@ -251,7 +252,7 @@ def _survey_check(a: argparse.Namespace) -> int:
 def seed(a: argparse.Namespace) -> int:
     """The folder's episodes as the partial file of its design in a workflow config's design cache."""
     from morphlearn import configure
-    from morphlearn.seed import seed as seed_cache
+    from morphlearn.refine.seed import seed as seed_cache
 
     s = configure.load(a.base, a.configfile)
     r = seed_cache(_folder(a.folder), s)
@@ -271,7 +272,7 @@ def seed_cache(a: argparse.Namespace) -> int:
     """Another run's design cache's simulated cells as the partial files of the designs this
     config simulates (one line per design, on stderr)."""
     from morphlearn import configure
-    from morphlearn.seed import seed_designs
+    from morphlearn.refine.seed import seed_designs
 
     s = configure.load(a.base, a.configfile)
     found = seed_designs(a.cache, s)
@@ -284,7 +285,7 @@ def seed_cache(a: argparse.Namespace) -> int:
 
 def run(a: argparse.Namespace) -> int:
     """The action; a refine folder that fails its checks is a usage error (one line, exit 2)."""
-    from morphlearn import refine_folder as rz
+    from morphlearn.refine import folder as rz
 
     try:
         return int(a.refine_func(a))

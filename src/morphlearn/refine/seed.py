@@ -1,7 +1,7 @@
 """A workflow design's partial file seeded from a committed exhaustive refine folder.
 
 A pybullet design at the paper's 121 x 121 weights is hours of one core. The folders' runner
-(deleted; the folders are read-only history, :mod:`morphlearn.refine_folder`) and the workflow's
+(deleted; the folders are read-only history, :mod:`morphlearn.refine.folder`) and the workflow's
 evaluator made the same per-cell call (same runner, same reach bound, same floats; the folders'
 rows equal the workflow's refine bundles, ``tests/test_refine_bundle.py``), so the episodes of an
 exhaustive folder, complete or not, are episodes the workflow would simulate. :func:`seed`
@@ -34,12 +34,13 @@ from typing import Any
 
 import numpy as np
 
-from morphlearn import design_cache, models, store
 from morphlearn import grid as gridmod
-from morphlearn import refine_folder as rz
+from morphlearn import models, store
+from morphlearn.physics import design_cache
 from morphlearn.physics import partial as partial_cells
 from morphlearn.physics.options import SweepOptions
 from morphlearn.physics.params import EmpiricalParams
+from morphlearn.refine import folder as rz
 from morphlearn.results import STATUS_INFERRED
 from morphlearn.settings import Settings
 

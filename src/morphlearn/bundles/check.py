@@ -1,5 +1,5 @@
 """Checking a results bundle against its manifest, and reading one model's results out of it
-(the bundle itself: :mod:`morphlearn.bundle`)."""
+(the bundle itself: :mod:`morphlearn.bundles.make`)."""
 
 from __future__ import annotations
 
@@ -18,7 +18,7 @@ import yaml
 
 from morphlearn import bounded, metrics, models, provenance, store
 from morphlearn import config as cfgmod
-from morphlearn.bundle import MANIFEST, BundleError, bundle_files, drawn_designs
+from morphlearn.bundles.make import MANIFEST, BundleError, bundle_files, drawn_designs
 from morphlearn.grid import ENV_ANGLES_DEG, DesignGrid
 
 
@@ -354,7 +354,7 @@ CONFIG_NAME = re.compile(r"(?!/)(?!-)(?!.*(^|/)\.\.(/|$))[\w./-]+\.ya?ml")
 #: What a recorded command's words may hold: no shell syntax (``;``, ``|``, ``$``, quotes, ...).
 SAFE_WORD = re.compile(r"[\w./=:,+@-]+")
 #: The project root of this code (commits and config files are looked up in its repository).
-ROOT = Path(__file__).resolve().parents[2]
+ROOT = Path(__file__).resolve().parents[3]
 
 
 def project() -> Path:
@@ -424,8 +424,8 @@ def _config_text(name: str, commit: str | None) -> tuple[str | None, bool]:
 def command_problems(manifest: dict[str, Any], notes: list[str]) -> list[str]:
     """The configs and commands bundle.json records: config files of the project (at its commit),
     commands of plain words naming only them, and the command of a workflow bundle the one its
-    configs give (:func:`morphlearn.bundle.command_of`)."""
-    from morphlearn.bundle import command_of
+    configs give (:func:`morphlearn.bundles.make.command_of`)."""
+    from morphlearn.bundles.make import command_of
 
     by = manifest["made_by"]
     commit = by.get("git_commit") if isinstance(by.get("git_commit"), str) else None

@@ -66,7 +66,7 @@ def read_table(path: str | Path) -> pd.DataFrame:
     if dup.any():
         raise ValueError(f"{path}: design {int(t.design[dup].iloc[0])} appears twice; allowed: each design once")
     # beside its merged store (a run's or a bundle's): the same check of its meaning as check-bundle's
-    from morphlearn.bundle_check import meaning_problems
+    from morphlearn.bundles.check import meaning_problems
 
     problems = meaning_problems(Path(path), t)
     if problems:

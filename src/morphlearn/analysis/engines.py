@@ -59,7 +59,7 @@ def read_table(path: str | Path) -> pd.DataFrame:
 def tables(first: pd.DataFrame, second: pd.DataFrame, reference: pd.DataFrame) -> pd.DataFrame:
     """One row per design: M_L, M_CF of both engines (:data:`ENGINES` order) and the reference
     model, with each one's ranks."""
-    from morphlearn.compare import joined
+    from morphlearn.analysis.compare import joined
 
     a, b = ENGINES
     engines = joined(first, second, names=ENGINES)
@@ -83,7 +83,7 @@ def numbers(both: pd.DataFrame) -> dict[str, Any]:
     its bootstrap 95 % interval (seeded) between the engines (all designs, and those non-zero in
     either) and of each engine's M_L with the theory's; each model's best design by M_L."""
 
-    from morphlearn.compare import spearman_ci
+    from morphlearn.analysis.compare import spearman_ci
 
     def rho(x: str, y: str, rows: pd.Series | None = None) -> dict[str, Any]:
         sub = both if rows is None else both[rows]

@@ -12,8 +12,11 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
-from morphlearn import bundle, bundle_check, design_cache, metrics, models, provenance, store
-from morphlearn.bundle import MANIFEST
+from morphlearn import metrics, models, provenance, store
+from morphlearn.bundles import check as bundle_check
+from morphlearn.bundles import make as bundle
+from morphlearn.bundles.make import MANIFEST
+from morphlearn.physics import design_cache
 from morphlearn.results import DesignResult
 from morphlearn.settings import Settings
 

@@ -14,8 +14,8 @@ import pandas as pd
 
 from morphlearn import grid as gridmod
 from morphlearn import metrics, models, provenance, store
-from morphlearn.bundle import BundleError
-from morphlearn.bundle_check import meaning_problems
+from morphlearn.bundles.check import meaning_problems
+from morphlearn.bundles.make import BundleError
 
 #: What names designs (after an optional ``MODEL:``).
 _NAMED = ("canonical", "best_M_L", "best_M_CF")

@@ -19,11 +19,12 @@ from typing import Any, NoReturn
 
 import numpy as np
 
-from morphlearn import __version__, refine_cli
+from morphlearn import __version__
 from morphlearn import grid as gridmod
 from morphlearn.errors import EngineError, UsageError, c_stdout_to_stderr
 from morphlearn.metrics import design_metrics
 from morphlearn.physics.model import ROBOT_BODIES
+from morphlearn.refine import cli as refine_cli
 
 
 class _Parser(argparse.ArgumentParser):
@@ -138,7 +139,7 @@ def _what_ran(model: Any, a: argparse.Namespace) -> str:
 
 
 def cmd_verify(a: argparse.Namespace) -> int:
-    from morphlearn import verify
+    from morphlearn.bundles import verify
 
     if a.samples < 1:
         raise UsageError(f"--samples = {a.samples}; allowed: an integer >= 1 (cells to re-evaluate)")
@@ -153,7 +154,9 @@ def cmd_verify(a: argparse.Namespace) -> int:
 
 
 def cmd_check_bundle(a: argparse.Namespace) -> int:
-    from morphlearn import bundle, bundle_check, resimulate
+    from morphlearn.bundles import check as bundle_check
+    from morphlearn.bundles import make as bundle
+    from morphlearn.bundles import resimulate
 
     if not _exists(a.bundle):
         raise UsageError(f"{a.bundle}: no such folder (a results bundle, e.g. results/paper)")
@@ -190,7 +193,7 @@ def cmd_check_bundle(a: argparse.Namespace) -> int:
 def _render_root(a: argparse.Namespace) -> Path:
     """The project root a render of bundle ``a.bundle`` runs in (render, rerender-bundle): the
     current folder, holding the Snakefile and the bundle, and ``a.cores`` usable."""
-    from morphlearn import bundle
+    from morphlearn.bundles import make as bundle
 
     root = Path.cwd()
     if not (root / "Snakefile").is_file():
@@ -203,7 +206,8 @@ def _render_root(a: argparse.Namespace) -> Path:
 
 
 def cmd_rerender_bundle(a: argparse.Namespace) -> int:
-    from morphlearn import bundle, bundle_rerender
+    from morphlearn.bundles import make as bundle
+    from morphlearn.bundles import render as bundle_rerender
 
     root = _render_root(a)
     try:
@@ -222,7 +226,8 @@ def cmd_render(a: argparse.Namespace) -> int:
     results (nothing simulated) with the configs that made it, on a copy beside it, and compared
     byte for byte with its bundle.json. The bundle is not touched (re-sealing is rerender-bundle's,
     after a figure's code changed)."""
-    from morphlearn import bundle, bundle_rerender
+    from morphlearn.bundles import make as bundle
+    from morphlearn.bundles import render as bundle_rerender
 
     root = _render_root(a)
     files = _listed_files(root / a.bundle / bundle.MANIFEST)
@@ -293,7 +298,7 @@ def cmd_compare(a: argparse.Namespace) -> int:
     body vs another)."""
     from scipy import stats
 
-    from morphlearn import compare
+    from morphlearn.analysis import compare
 
     if a.top < 1:
         raise UsageError(f"--top = {a.top}; allowed: an integer >= 1 (designs in each top list)")

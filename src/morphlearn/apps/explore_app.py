@@ -6,7 +6,7 @@ sensor placements (hover a cell for its design, click it to select it), a top-N 
 or M_CF with a search, the selected design's overlap matrix (click a controller), its four
 trajectories, its metrics, ranks and mirror image, and the bundle's models (engines) side by side.
 The drawing reuses the paper figures' code (morphlearn.figures.draw); the logic is
-morphlearn.explore. Each figure's ``canvas`` is an ipympl widget under ``%matplotlib widget``;
+morphlearn.apps.explore. Each figure's ``canvas`` is an ipympl widget under ``%matplotlib widget``;
 under another backend (Agg in the unit tests) the handlers are called directly.
 
 :class:`Bridge` does what only the page can: it reports the page's width (the figures are sized to
@@ -33,8 +33,8 @@ from IPython.display import display
 from matplotlib import patches
 from matplotlib.figure import Figure
 
-from morphlearn import explore
 from morphlearn import grid as gridmod
+from morphlearn.apps import explore
 from morphlearn.figures import data
 from morphlearn.figures.draw import matrix, panel, sketch, trajectory
 from morphlearn.grid import ENV_ANGLES_DEG
