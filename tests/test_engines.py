@@ -27,7 +27,7 @@ CONFIG = configure.load(ROOT / "config.yaml", [ROOT / "config/engines.yaml"])
 def _render(name: str, tmp_path: Path, files: tuple[str, ...], **extra: object) -> Path:
     """Run figure ``name``'s notebook on a copy of the committed inputs ``files`` (as its rule
     does: papermill, the project's src importable); returns the copy's figures folder."""
-    from morphlearn.bundles.make import render_notebook
+    from morphlearn.bundles.render import render_notebook
 
     run = tmp_path / "results" / "mujoco"
     (run / "figures").mkdir(parents=True)

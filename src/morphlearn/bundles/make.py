@@ -19,18 +19,13 @@ and the command in ``bundle.json`` regenerate them.
 from __future__ import annotations
 
 import json
-import os
 import shutil
-import subprocess
-import sys
-import time
 from collections.abc import Iterable
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 import pandas as pd
-import yaml
 
 from morphlearn import __version__, bounded, metrics, models, provenance, store
 from morphlearn import grid as gridmod
@@ -379,30 +374,3 @@ def readme(manifest: dict[str, Any], run_dir: Path, cost: pd.DataFrame) -> str:
         "",
     ]
     return "\n".join(lines)
-
-
-def render_notebook(root: Path, notebook: str, cwd: Path, executed: Path, params: dict[str, Any]) -> float:
-    """Run a figure notebook of the project at ``root`` with papermill from ``cwd`` (the folder
-    that holds ``results/``, so captions name paths relative to it), the project's ``src``
-    importable; the executed copy goes to ``executed`` (relative to ``cwd``). The stage bundles
-    re-render their figure this way. Returns the wall seconds."""
-    (cwd / executed).parent.mkdir(exist_ok=True)
-    env = dict(os.environ, PYTHONPATH=os.pathsep.join(filter(None, [str(root / "src"), os.environ.get("PYTHONPATH")])))
-    papermill = Path(sys.executable).with_name("papermill")
-    t0 = time.perf_counter()
-    proc = subprocess.run(
-        [
-            str(papermill),
-            str(root / notebook),
-            str(executed),
-            "-y",
-            yaml.safe_dump(params, default_flow_style=True, width=10**6).strip(),
-        ],
-        cwd=cwd,
-        capture_output=True,
-        text=True,
-        env=env,
-    )
-    if proc.returncode:
-        raise RuntimeError(f"papermill {notebook} failed ({proc.returncode}):\n{proc.stderr[-3000:]}")
-    return time.perf_counter() - t0

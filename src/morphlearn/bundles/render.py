@@ -1,4 +1,5 @@
-"""Re-render a committed results bundle with the current code and re-seal what the render wrote.
+"""Re-render a committed results bundle with the current code and re-seal what the render wrote;
+the one place a bundle is rendered.
 
 A bundle's figures and tables are rendered by the commit that made it; when a figure's code
 changes (a title, a caption), ``render_only`` re-renders them and ``check-bundle`` then reports the
@@ -6,6 +7,11 @@ new bytes as changed. :func:`rerender` does that render in place with the bundle
 updates ``bundle.json`` for exactly the rendered files that changed, after checking that the bundle
 was whole before and that nothing else changed (the data, the README: never re-sealed here). The
 manifest records the commit that rendered them (``rendered_by``) beside the one that made the run.
+
+A workflow bundle renders through Snakemake (``render_only``: :func:`rendered_copy`); a stage
+bundle whose figure no workflow render makes (the scenario set's, :mod:`morphlearn.bundles.scenario`;
+coopt's, :mod:`morphlearn.coopt.bundle`) renders its figure's notebook on its own files in place
+(:func:`figure_in_place`), as its rule does.
 """
 
 from __future__ import annotations
@@ -17,14 +23,20 @@ import shutil
 import subprocess
 import sys
 import tempfile
-from collections.abc import Iterator
+import time
+from collections.abc import Callable, Iterator
 from contextlib import contextmanager
 from pathlib import Path, PurePosixPath
+from typing import Any
+
+import yaml
 
 from morphlearn import bounded, provenance, store
 from morphlearn.bundles import check as bundle_check
 from morphlearn.bundles import make as bundle
 
+#: The figures' style sheet (a stage bundle's notebook takes it as ``style``).
+STYLE = "notebooks/style.mplstyle"
 #: Files of a bundle that a render writes (figures and the reproduction tables).
 RENDERED_SUFFIXES = (".png", ".pdf", ".caption.md")
 #: The reproduction rule writes its sealed record too: the digests of the tables it wrote, so a
@@ -237,3 +249,49 @@ def rerender(bundle_dir: str | Path, root: str | Path, cores: int = 2) -> list[s
     if left:
         raise bundle.BundleError(f"{bundle_dir}: after the render: {left[0]}")
     return sorted(changed)
+
+
+def render_notebook(root: Path, notebook: str, cwd: Path, executed: Path, params: dict[str, Any]) -> float:
+    """Run a figure notebook of the project at ``root`` with papermill from ``cwd`` (the folder
+    that holds ``results/``, so captions name paths relative to it), the project's ``src``
+    importable; the executed copy goes to ``executed`` (relative to ``cwd``). The stage bundles
+    re-render their figure this way (:func:`figure_in_place`). Returns the wall seconds."""
+    (cwd / executed).parent.mkdir(exist_ok=True)
+    env = dict(os.environ, PYTHONPATH=os.pathsep.join(filter(None, [str(root / "src"), os.environ.get("PYTHONPATH")])))
+    papermill = Path(sys.executable).with_name("papermill")
+    t0 = time.perf_counter()
+    proc = subprocess.run(
+        [
+            str(papermill),
+            str(root / notebook),
+            str(executed),
+            "-y",
+            yaml.safe_dump(params, default_flow_style=True, width=10**6).strip(),
+        ],
+        cwd=cwd,
+        capture_output=True,
+        text=True,
+        env=env,
+    )
+    if proc.returncode:
+        raise RuntimeError(f"papermill {notebook} failed ({proc.returncode}):\n{proc.stderr[-3000:]}")
+    return time.perf_counter() - t0
+
+
+def figure_in_place(
+    out_dir: str | Path,
+    root: str | Path | None,
+    notebook: str,
+    executed: str,
+    params: Callable[[Path, str], dict[str, Any]],
+) -> float:
+    """A stage bundle's figure rendered from the bundle's own files, in place: ``notebook`` run
+    from the folder that holds ``results/`` with ``params(rel, style)`` (``rel``: the bundle
+    relative to that folder, so the caption names ``<name>/<file>`` wherever the project is;
+    ``style``: the figures' style sheet), the executed copy to ``logs/<executed>``. ``root``: the
+    project (default: this code's). The wall seconds."""
+    out_dir = Path(out_dir).resolve()
+    root = Path(root).resolve() if root else bundle_check.ROOT
+    cwd = out_dir.parents[1]  # <project>/results/<name>
+    rel = out_dir.relative_to(cwd)
+    return render_notebook(root, notebook, cwd, rel / "logs" / executed, params(rel, str(root / STYLE)))

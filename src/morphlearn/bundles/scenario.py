@@ -32,6 +32,7 @@ import pandas as pd
 from morphlearn import __version__, config, provenance, store
 from morphlearn.bundles import check as bundle_check
 from morphlearn.bundles import make as bundlemod
+from morphlearn.bundles import render as bundle_render
 
 #: Files of the scenario folder copied as they are (paths relative to it).
 DATA = ("comparison.csv", "comparison.md", "text_values.csv")
@@ -41,7 +42,6 @@ TOP = DATA + FIGURE
 #: Per scenario.
 PER_SCENARIO = ("scenario.json", "summary.json", "summary.md", "theory/metrics.csv", "theory/metrics.provenance.json")
 NOTEBOOK = "notebooks/scenarios.ipynb"
-STYLE = "notebooks/style.mplstyle"
 COMMAND = "snakemake --cores 2 --config scenarios=all"
 
 
@@ -162,23 +162,21 @@ def readme(manifest: dict[str, Any], cost: pd.DataFrame) -> str:
     return "\n".join(lines)
 
 
-def _render(out_dir: Path, root: str | Path | None) -> float:
-    """Render the comparison figure from a bundle's files, in place (the executed notebook goes to
-    ``logs/``), as the rule ``scenario_report`` does. Paths are passed relative to the folder that
-    holds ``results/`` (the caption names them), so a bundle renders alike wherever the project is."""
-    out_dir = out_dir.resolve()
-    root = Path(root).resolve() if root else Path(__file__).resolve().parents[3]
-    cwd = out_dir.parents[1]  # <project>/results/<name>
-    rel = out_dir.relative_to(cwd)
-    params = {
+def _params(rel: Path, style: str) -> dict[str, str]:
+    return {
         "comparison": str(rel / "comparison.csv"),
         "scan": str(rel / "text_values.csv"),
-        "style": str(root / STYLE),
+        "style": style,
         "png": str(rel / "comparison.png"),
         "pdf": str(rel / "comparison.pdf"),
         "caption": str(rel / "comparison.caption.md"),
     }
-    return bundlemod.render_notebook(root, NOTEBOOK, cwd, rel / "logs" / "comparison.ipynb", params)
+
+
+def _render(out_dir: Path, root: str | Path | None) -> float:
+    """Render the comparison figure from a bundle's files, in place, as the rule ``scenario_report``
+    does (:func:`morphlearn.bundles.render.figure_in_place`)."""
+    return bundle_render.figure_in_place(out_dir, root, NOTEBOOK, "comparison.ipynb", _params)
 
 
 def render(out_dir: str | Path, root: str | Path | None = None) -> tuple[float, list[str]]:

@@ -22,11 +22,10 @@ from typing import Any
 
 from morphlearn import provenance, store
 from morphlearn.bundles import check as bundle_check
-from morphlearn.bundles import make as bundlemod
+from morphlearn.bundles import render as bundle_render
 from morphlearn.bundles.make import MANIFEST
 
 NOTEBOOK = "notebooks/coopt.ipynb"
-STYLE = "notebooks/style.mplstyle"
 #: The figure's files in the bundle.
 FIGURE = ("coopt.png", "coopt.pdf", "coopt.caption.md")
 #: The step size of the evolution strategies the figure draws (config/coopt.yaml's first sigma).
@@ -34,22 +33,20 @@ SIGMA = 0.5
 
 
 def _render(out_dir: Path, root: str | Path | None, sigma: float = SIGMA) -> float:
-    """Run the figure notebook on a bundle's files, in place (the executed notebook goes to
-    ``logs/``). Paths are relative to the folder that holds ``results/``, and the bundle is passed
-    as ``results_dir``'s ``coopt`` folder, so the caption names ``coopt/<file>`` wherever the
-    project is (the same names as a workflow run's caption)."""
-    out_dir = out_dir.resolve()
-    root = Path(root).resolve() if root else Path(__file__).resolve().parents[3]
-    cwd = out_dir.parents[1]  # <project>/results/<name>
-    rel = out_dir.relative_to(cwd)
-    params = {
-        "results_dir": str(rel.parent),
-        "coopt_dir": str(rel),
-        "coopt_sigma": sigma,
-        "style": str(root / STYLE),
-        **{k: str(rel / f) for k, f in zip(("png", "pdf", "caption"), FIGURE, strict=True)},
-    }
-    return bundlemod.render_notebook(root, NOTEBOOK, cwd, rel / "logs" / "coopt.ipynb", params)
+    """Run the figure notebook on a bundle's files, in place, the bundle passed as ``results_dir``'s
+    ``coopt`` folder, so the caption names ``coopt/<file>`` as a workflow run's caption does
+    (:func:`morphlearn.bundles.render.figure_in_place`)."""
+
+    def params(rel: Path, style: str) -> dict[str, Any]:
+        return {
+            "results_dir": str(rel.parent),
+            "coopt_dir": str(rel),
+            "coopt_sigma": sigma,
+            "style": style,
+            **{k: str(rel / f) for k, f in zip(("png", "pdf", "caption"), FIGURE, strict=True)},
+        }
+
+    return bundle_render.figure_in_place(out_dir, root, NOTEBOOK, "coopt.ipynb", params)
 
 
 def render(out_dir: str | Path, root: str | Path | None = None) -> tuple[float, list[str]]:
