@@ -35,7 +35,7 @@ RAW_READ = re.compile(r"\bcfg\[|\bcfg\.get\(|\bCFG\[|\.source\[")
 EDGE_FILES = {"config.py", "settings.py"}
 #: Modules whose ``cfg`` is a bundle's recorded config checked as data, not this run's settings:
 #: their reads are listed apart.
-RECORDED_CONFIG_FILES = {"bundle_check.py"}
+RECORDED_CONFIG_FILES = {"bundles/check.py"}
 
 #: String constants naming an engine: its registry key or its engine name.
 ENGINE_NAMES = frozenset({"ode", "pybullet", "empirical", "mujoco", "reduced"})
@@ -82,7 +82,8 @@ def raw_reads() -> tuple[list[str], list[str], list[str]]:
         for i, line in enumerate(text.splitlines(), 1):
             if RAW_READ.search(line):
                 where = edge if any(i in r for r in spans) else below
-                where = recorded if p.name in RECORDED_CONFIG_FILES else where
+                rel = p.relative_to(ROOT / "src/morphlearn").as_posix() if p.suffix == ".py" else ""
+                where = recorded if rel in RECORDED_CONFIG_FILES else where
                 where.append(f"{p.relative_to(ROOT)}:{i}: {line.strip()}")
     return below, edge, recorded
 
