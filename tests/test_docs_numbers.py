@@ -124,12 +124,13 @@ def facts() -> list[float]:
         "results/reduced-agreement-paper/agreement.csv",
         "results/reduced-agreement-survey/agreement.csv",
         "results/reduced-agreement-screened/agreement.csv",
+        "results/reduced-agreement-random/agreement.csv",
     ):
         if (ROOT / rel).is_file():
             ra = _table(rel)
             out += [*(100 * ra.cells_same), *ra.cells_compared, *ra.rho_M_L, *ra.rho_M_CF, *ra.rho_solved]
             out += [*(100 * ra.generalists_within_2), *ra.top10_M_L, *ra.top10_M_CF, *ra.canonical_rank_M_L]
-            out += [*(100 * ra.with_generalist), *ra.best_M_L_rank_in_ode]
+            out += [*(100 * ra.with_generalist), *ra.best_M_L_rank_in_ode, *ra.designs]
     for rel in (
         "results/reduced-ode-paper/reduced/metrics.csv",
         "results/reduced-survey/reduced/metrics.csv",
