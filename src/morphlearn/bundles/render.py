@@ -295,3 +295,15 @@ def figure_in_place(
     cwd = out_dir.parents[1]  # <project>/results/<name>
     rel = out_dir.relative_to(cwd)
     return render_notebook(root, notebook, cwd, rel / "logs" / executed, params(rel, str(root / STYLE)))
+
+
+def report_in_place(bundle_dir: str | Path, seconds: float, problems: list[str]) -> int:
+    """What a stage bundle's ``render`` command prints after :func:`figure_in_place` and the check
+    (the scenario set's and coopt's), and its exit status: 0 when every file matches bundle.json."""
+    print(
+        f"{bundle_dir}: figure re-rendered in {seconds:.1f} s; "
+        + ("every file matches bundle.json" if not problems else f"{len(problems)} problem(s):")
+    )
+    for p in problems:
+        print(f"  {p}")
+    return 1 if problems else 0

@@ -111,14 +111,7 @@ def main(argv: list[str] | None = None) -> int:
     if a.cmd == "seal":
         print(f"{a.bundle_dir}: {len(seal(a.bundle_dir))} files sealed")
         return 0
-    seconds, problems = render(a.bundle_dir)
-    print(
-        f"{a.bundle_dir}: figure re-rendered in {seconds:.1f} s; "
-        + ("every file matches bundle.json" if not problems else f"{len(problems)} problem(s):")
-    )
-    for p in problems:
-        print(f"  {p}")
-    return 1 if problems else 0
+    return bundle_render.report_in_place(a.bundle_dir, *render(a.bundle_dir))
 
 
 if __name__ == "__main__":
