@@ -39,6 +39,10 @@ def test_mirror_map() -> None:
     canon = g.index_of((0.5, 0.5), (0.5, -0.5))
     assert g.mirror(canon) == canon  # the canonical design is its own mirror image
     assert [grid.ENV_ANGLES_DEG[k] for k in grid.ENV_MIRROR] == [315, 225, 135, 45]
+    # one design or a mirror pair, in either order; any other design is not
+    pair = [bool(g.same_pair(a, b)) for a, b in ((3, 3), (3, int(m[3])), (int(m[3]), 3))]
+    assert pair == [True, True, True]
+    assert sum(g.same_pair(3, b) for b in range(g.size)) == (1 if m[3] == 3 else 2)
 
 
 def test_env_starts_are_exact_mirror_pairs() -> None:

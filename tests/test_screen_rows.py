@@ -54,7 +54,7 @@ def _paper() -> dict:
 @pytest.fixture(scope="module")
 def bundles() -> tuple:
     s = configure.parse(cfgmod.deep_merge(_paper(), {"screen_from": SCREEN}))
-    assert s.screen.bundle == SCREEN["bundle"]  # config/paper.yaml reads this very screen
+    assert s.screen is not None and s.screen[0].bundle == SCREEN["bundle"]  # config/paper.yaml reads this screen
     return s, build._screen(options.screen_option(s))
 
 

@@ -35,11 +35,11 @@ def _parse_survey(sec: Mapping[str, Any], grid: st.GridSettings) -> st.SurveySet
     return st.SurveySettings(bundle, name, MappingProxyType(th))
 
 
-def _parse_screen(sec: Mapping[str, Any], grid: st.GridSettings) -> st.ScreenSettings:
+def _parse_screen(sec: Mapping[str, Any], grid: st.GridSettings) -> st.Screen:
     """The screen (every design of this grid, a physics model's) and its refinement (the paper's
     engine at some designs of the same grid and weights), each checked by its model."""
     if sec["bundle"] is None and sec["refinement"] is None:
-        return st.ScreenSettings()
+        return None
     if sec["bundle"] is None or sec["refinement"] is None:
         given, other = ("bundle", "refinement") if sec["refinement"] is None else ("refinement", "bundle")
         raise cfgmod.ConfigError(f"screen_from.{given} is set without screen_from.{other}; allowed: both, or neither")
@@ -61,8 +61,9 @@ def _parse_screen(sec: Mapping[str, Any], grid: st.GridSettings) -> st.ScreenSet
             f"screen_from.refinement = {sec['refinement']!r} holds {w_r} x {w_r} weights, the screen {w} x {w}; "
             "allowed: the same weights"
         )
-    return st.ScreenSettings(
-        sec["bundle"], sec["model"], MappingProxyType(th), sec["refinement"], paper.name, MappingProxyType(th_r)
+    return (
+        st.SurveySettings(sec["bundle"], sec["model"], MappingProxyType(th)),
+        st.SurveySettings(sec["refinement"], paper.name, MappingProxyType(th_r)),
     )
 
 

@@ -121,6 +121,10 @@ class DesignGrid:
         m = self.n - 1
         return self.flat(np.stack([i[..., 2], m - i[..., 3], i[..., 0], m - i[..., 1]], -1))
 
+    def same_pair(self, a: int, b: int) -> bool:
+        """``a`` and ``b`` are one design, or mirror images of each other (one body, mirrored)."""
+        return int(a) == int(b) or int(self.mirror(int(a))) == int(b)
+
     def representatives(self) -> np.ndarray:
         """One design of each mirror pair (the smaller index), sorted."""
         d = np.arange(self.size)

@@ -201,9 +201,9 @@ class AgreementSettings:
 
 @dataclass(frozen=True)
 class SurveySettings:
-    """``survey_from``: a committed bundle holding a physics survey of every design of the grid,
-    or of a coarser grid whose positions are the grid's (None: none), the model whose survey it is,
-    and the thresholds its metrics were made with."""
+    """A committed bundle a run reads a physics model's results from (None: none), the model, and
+    the thresholds its metrics were made with: ``survey_from`` (a survey of every design of the
+    grid, or of a coarser grid whose positions are the grid's), and each part of ``screen_from``."""
 
     bundle: str | None
     model: str
@@ -211,24 +211,15 @@ class SurveySettings:
 
     @property
     def folder(self) -> str:
-        """Where the run keeps its copy, under results_dir (``survey/<model>``)."""
+        """Where the run keeps its copy of a survey, under results_dir (``survey/<model>``)."""
         from morphlearn.store import SURVEY_DIR
 
         return f"{SURVEY_DIR}/{self.model}"
 
 
-@dataclass(frozen=True)
-class ScreenSettings:
-    """``screen_from``: a fast model's map of every design of the grid (``bundle``, ``model``) and
-    the paper's engine at its best designs (``refinement``, ``refinement_model``), each with the
-    thresholds its metrics were made with (None: no screen)."""
-
-    bundle: str | None = None
-    model: str = ""
-    thresholds: Mapping[str, float] | None = None
-    refinement: str | None = None
-    refinement_model: str = ""
-    refinement_thresholds: Mapping[str, float] | None = None
+#: ``screen_from``: a fast model's map of every design of the grid and the paper's engine at its
+#: best designs, each read where it is (None: no screen).
+Screen = tuple[SurveySettings, SurveySettings] | None
 
 
 @dataclass(frozen=True)
@@ -263,7 +254,7 @@ class Settings:
     #: the largest physics survey, read from its bundle (``survey_from``)
     survey: SurveySettings
     #: the best-design claims answered by a screen and its refinement (``screen_from``)
-    screen: ScreenSettings
+    screen: Screen
     scenarios: str | list[str] | None
     scenario_file: str
     render_only: bool

@@ -74,7 +74,6 @@ def tables(first: pd.DataFrame, second: pd.DataFrame, reference: pd.DataFrame) -
 
 
 def canonical_index() -> int:
-
     return int(DesignGrid(POSITIONS).index_of(*canonical_design()))
 
 

@@ -11,7 +11,7 @@ from typing import Any
 from morphlearn import models
 from morphlearn.figures.registry import FIGURES as FIGURE_SPECS
 from morphlearn.figures.registry import PHYSICS, REFERENCE_PHYSICS
-from morphlearn.settings import Settings
+from morphlearn.settings import Settings, Source
 
 #: The paper's figures, drawn by every run; :func:`figures` adds those of enabled extra stages.
 PAPER_FIGURES = tuple(f for f, spec in FIGURE_SPECS.items() if spec.needs is None)
@@ -91,25 +91,17 @@ def survey_option(s: Settings) -> dict[str, Any] | None:
 def screen_option(s: Settings) -> dict[str, Any] | None:
     """The screen and its refinement (``screen_from``): where each bundle is, its model and the
     thresholds its metrics were made with, or None when the config sets none."""
-    c = s.screen
-    if not c.bundle:
+    if s.screen is None:
         return None
     return {
-        "screen": {"bundle": c.bundle, "model": c.model, "thresholds": dict(c.thresholds or {})},
-        "refinement": {
-            "bundle": c.refinement,
-            "model": c.refinement_model,
-            "thresholds": dict(c.refinement_thresholds or {}),
-        },
+        part: {"bundle": b.bundle, "model": b.model, "thresholds": dict(b.thresholds or {})}
+        for part, b in zip(("screen", "refinement"), s.screen, strict=True)
     }
 
 
 def screen_files(s: Settings) -> list[str]:
     """What the screen rows read: each bundle's metrics table and manifest (empty: no screen)."""
-    opt = screen_option(s)
-    if opt is None:
-        return []
-    return [f"{b['bundle']}/{n}" for b in opt.values() for n in (f"{b['model']}/metrics.csv", "bundle.json")]
+    return [f for b in s.screen or () for f in Source(str(b.bundle), b.model).files()]
 
 
 def figure_options(s: Settings, fig: str) -> dict[str, Any]:

@@ -13,6 +13,7 @@ from __future__ import annotations
 
 from typing import NamedTuple
 
+import numpy as np
 import pandas as pd
 
 from morphlearn import grid as gridmod
@@ -50,7 +51,7 @@ def ruled_out(screen: pd.DataFrame, refined: pd.DataFrame, by: str) -> Ruled:
     held = screen.set_index("design")[by].reindex(refined.design)
     if held.isna().any():
         raise ValueError(f"the screen lacks {int(held.isna().sum())} of the refinement's designs")
-    margin = float((refined[by].to_numpy() - held.to_numpy()).__abs__().max())
+    margin = float(np.abs(refined[by].to_numpy() - held.to_numpy()).max())
     best = metrics.rank_designs(refined, by).iloc[0]
     outside = metrics.rank_designs(screen[~screen.design.isin(refined.design)], by)
     reach = outside[by] + margin if higher else outside[by] - margin
@@ -59,9 +60,9 @@ def ruled_out(screen: pd.DataFrame, refined: pd.DataFrame, by: str) -> Ruled:
 
 
 def _scope(screen: fd.ModelResults, refined: fd.ModelResults, checks: list[Ruled]) -> Scope:
-    for scope in (grid_scope(screen), weights_scope(refined)):
+    for part, scope in (("the screen", grid_scope(screen)), ("the refinement", weights_scope(refined))):
         if not scope.comparable:
-            return Scope(False, f"the screen: {scope.why}")
+            return Scope(False, f"{part}: {scope.why}")
     n_open = {int(d) for r in checks for d in r.open.design}
     if n_open:
         return Scope(False, f"the screen cannot rule out {len(n_open)} designs the refinement does not hold")
@@ -90,9 +91,7 @@ def screen_rows(screen: fd.ModelResults, refined: fd.ModelResults, config_name: 
     checks = {by: ruled_out(screen.table, refined.table, by) for by in metrics.METRICS}
     scope = _scope(screen, refined, list(checks.values()))
     top_l, top_cf = checks["M_L"].best, checks["M_CF"].best
-    mirror = gridmod.DesignGrid(refined.positions_per_axis or 0).mirror
-    pair = {int(top_l.design), int(mirror(int(top_l.design)))}
-    same_pair = int(top_cf.design) in pair
+    same_pair = gridmod.DesignGrid(refined.positions_per_axis or 0).same_pair(top_l.design, top_cf.design)
     label = fd.engine_label(refined.model)
     how = (
         f"{label} at {refined.n_designs} designs (the screen's best and their mirror images), the screen "

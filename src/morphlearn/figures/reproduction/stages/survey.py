@@ -52,11 +52,7 @@ def survey_rows(
         else f"{metrics.rank_of(t, canon, 'M_L')} by M_L, {metrics.rank_of(t, canon, 'M_CF')} by M_CF "
         f"(of {n}; ties share a rank); {higher} asymmetric designs higher on both"
     )
-    same = int(best.design) == int(top_cf.iloc[0].design)
-    mirror_l, mirror_cf = (
-        gridmod.DesignGrid(empirical.positions_per_axis).mirror(int(r.design)) for r in (best, top_cf.iloc[0])
-    )
-    same_pair = same or int(mirror_l) == int(top_cf.iloc[0].design) or int(mirror_cf) == int(best.design)
+    same_pair = gridmod.DesignGrid(empirical.positions_per_axis).same_pair(best.design, top_cf.iloc[0].design)
     top3 = "; ".join(
         f"{fd.design_label(*fd.row_design(r))} (M_L {r.M_L:.4g}, M_CF {r.M_CF:.4g})"
         for _, r in top_l.head(3).iterrows()
