@@ -34,63 +34,10 @@ report: "workflow/report/workflow.rst"
 include: "workflow/rules/common.smk"
 
 
-# The engine comparison's figures (config/engines.yaml; ENGINES: common.smk).
-ENGINE_TARGETS = [
-    f"{R}/figures/{fig}.{ext}"
-    for fig in ("engines", "disagreement")
-    for ext in ("png", "pdf", "html")
-]
+# What this run makes: the paper's workflow, or one stage instead of it (morphlearn.workflow.runs).
+for _rules in RUN.rule_files:
 
-
-# scenarios: named variants of this config instead of the main workflow (docs/scenarios.md).
-if S.scenarios is not None:
-
-    include: "workflow/rules/scenarios.smk"
-
-    ALL_TARGETS = SCENARIO_TARGETS
-
-
-# agreement: each engine and robot against ODE only (render_only: its figure from the stored outputs).
-elif AGREEMENT.enabled:
-    if not RENDER_ONLY:
-
-        include: "workflow/rules/agreement.smk"
-
-    ALL_TARGETS = [f"{R}/figures/agreement.{ext}" for ext in ("png", "pdf", "html")]
-
-
-# engines: the engine comparison only (render_only: its figures from the stored outputs).
-elif ENGINES.enabled:
-    if not RENDER_ONLY:
-
-        include: "workflow/rules/engines.smk"
-
-    ALL_TARGETS = ENGINE_TARGETS
-
-
-# render_only: no rule that simulates, merges or computes metrics exists.
-elif not RENDER_ONLY:
-
-    include: "workflow/rules/simulate.smk"
-    include: "workflow/rules/empirical.smk"
-    include: "workflow/rules/analysis.smk"
-
-    if S.learners.enabled:
-
-        include: "workflow/rules/learners.smk"
-
-    if S.coopt.enabled:
-
-        include: "workflow/rules/coopt.smk"
-
-    if S.bundle_dir:
-
-        include: "workflow/rules/bundle.smk"
-
-
-if S.scenarios is None:
-
-    include: "workflow/rules/figures.smk"
+    include: _rules
 
 
 rule all:

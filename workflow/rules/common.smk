@@ -11,7 +11,7 @@ from morphlearn import config as cfgmod
 from morphlearn.analysis import engines as engine_compare
 from morphlearn.bundles import make as bundlemod
 from morphlearn import models, provenance, settings
-from morphlearn.workflow import results_check, rules
+from morphlearn.workflow import results_check, rules, runs
 from morphlearn.learners import experiment as learner_experiment
 from morphlearn.coopt import stage as coopt_stage
 from morphlearn.figures import options as figure_options
@@ -22,6 +22,7 @@ from morphlearn.figures import registry as figure_registry
 # re-renders a bundle only with the configs its bundle.json records (issue 57).
 try:
     S = configure.parse(config)
+    RUN = runs.run(S)
     cfgmod.check_results_dir(
         S.results_dir, S.render_only, [os.path.relpath(f) for f in workflow.configfiles]
     )
@@ -120,19 +121,26 @@ FIGURES = figure_options.figures(S)
 # Once per start: both a figure's inputs and its params use them.
 FIGURE_OPTIONS = {fig: figure_options.figure_options(S, fig) for fig in FIGURES}
 FIGURE_TARGETS = [
-    *(f"{R}/figures/{fig}.{ext}" for fig in FIGURES for ext in ("png", "pdf", "html")),
+    *(f"{R}/figures/{fig}.{ext}" for fig in FIGURES for ext in runs.FIGURE_EXTENSIONS),
     *([f"{R}/reproduction.md"] if FIGURES else []),
 ]
-ALL_TARGETS = FIGURE_TARGETS + (
-    []
-    if RENDER_ONLY
-    else [
-        *(f"{R}/{m}/metrics.csv" for m in MODELS),
-        *SURVEY_FILES[:1],
-        f"{R}/summary.md",
-        *([f"{R}/learners/summary.md"] if S.learners.enabled else []),
-        *([f"{R}/coopt/summary.md"] if S.coopt.enabled else []),
-    ]
+# The targets of all: a stage's figures alone (scenarios.smk adds its comparison), or the
+# paper's workflow's figures and tables (coopt.smk adds its bundle).
+ALL_TARGETS = (
+    RUN.figure_targets(R)
+    if RUN.figures is not None
+    else FIGURE_TARGETS
+    + (
+        []
+        if RENDER_ONLY
+        else [
+            *(f"{R}/{m}/metrics.csv" for m in MODELS),
+            *SURVEY_FILES[:1],
+            f"{R}/summary.md",
+            *([f"{R}/learners/summary.md"] if S.learners.enabled else []),
+            *([f"{R}/coopt/summary.md"] if S.coopt.enabled else []),
+        ]
+    )
 )
 
 
@@ -156,7 +164,7 @@ ENGINES = S.engines
 AGREEMENT = S.agreement
 
 # render_only: refuse to start, by name, when a stored result is missing or fails its digests.
-if RENDER_ONLY and FIGURES and not (ENGINES.enabled or AGREEMENT.enabled):
+if RENDER_ONLY and FIGURES and RUN.kind == "paper":
     try:
         rules.check_render_inputs(
             [f"{R}/{m}/{n}" for m in MODELS for n in ("metrics.csv", "merged.zarr")]

@@ -29,6 +29,7 @@ SCENARIO_TARGETS = [
     f"{SR}/comparison.png",
     *(f"{SR}/{s}/summary.md" for s in SCENARIO_NAMES),
 ]
+ALL_TARGETS.extend(SCENARIO_TARGETS)
 
 
 wildcard_constraints:
