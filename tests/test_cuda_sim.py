@@ -1,5 +1,5 @@
 """The CUDA kernel against the CPU kernel without a GPU: numba's CUDA simulator runs the kernel's
-Python source (refill loop, atomic counter, device model from ``model.build``) thread by thread.
+Python source (refill loop, atomic counter, device cells from ``cells.build``) thread by thread.
 
 ``NUMBA_ENABLE_CUDASIM`` must be set before ``numba.cuda`` is first imported, so the simulated run
 happens in a subprocess. The simulator evaluates the model in Python float64 arithmetic, as the

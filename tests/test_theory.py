@@ -1,17 +1,19 @@
-"""The fast kernel against the scipy reference, the singular designs, symmetry, determinism."""
+"""The fast kernel against the scipy reference and against its own Python source, the singular
+designs, symmetry, determinism."""
 
 from __future__ import annotations
 
 import dataclasses
 import math
 import multiprocessing
+from collections.abc import Callable
 
 import numpy as np
 import pytest
 
 from morphlearn import grid
 from morphlearn.store import mirror_arrays
-from morphlearn.theory import TheoryParams, evaluate
+from morphlearn.theory import TheoryParams, cells, cpu, evaluate
 from morphlearn.theory.reference import reference_trajectory
 
 P = TheoryParams()
@@ -109,3 +111,43 @@ def test_rk4_option_mostly_agrees_with_dp5() -> None:
     b = evaluate(d, w, TheoryParams(integrator="rk4", dt=0.01, max_steps=50_000))[0]
     same = np.isnan(a.first_time) == np.isnan(b.first_time)
     assert same.mean() > 0.99
+
+
+@pytest.mark.parametrize("integrator", ["dp5", "rk4"])
+def test_cpu_kernels_are_their_python_cells_bit_for_bit(integrator: str) -> None:
+    """cpu.sweep, cpu.points and cpu.points4 equal, byte for byte, their cells (theory/cells.py,
+    the CUDA kernel's too) run uncompiled over every index: the loops, the index layout and the
+    compiled arithmetic are the source's (issue 58 moved the per-trajectory code there unchanged).
+    A short horizon, the light close and a low step cap keep the Python run fast and give
+    successes, failures and step caps."""
+    p = TheoryParams(r=1.0, horizon=50.0, max_steps=3000, integrator=integrator, dt=0.05)
+    kw = p.kernel_kwargs()
+    params = cells.params(**kw)
+    starts = grid.env_starts(p.r)
+    rng = np.random.default_rng(58)
+    designs = np.vstack([[[-0.5, 0.5, -0.125, -0.5], [0.5, 0.5, 0.5, -0.5]], rng.uniform(-0.5, 0.5, (1, 4))])
+    w = grid.weights(3)
+    n = 24
+    ei, w4 = rng.integers(0, 4, n), rng.uniform(-1, 1, (n, 4))
+    coords = rng.uniform(-0.5, 0.5, (n, 4))
+    python = {s: cells.build(lambda f: f, synapses=s) for s in (2, 4)}  # the source, run as Python
+
+    def run(cell: Callable[..., None], inputs: tuple, like: tuple[np.ndarray, ...]) -> tuple[np.ndarray, ...]:
+        outs = tuple(np.empty_like(a) for a in like)
+        for k in range(like[0].size):
+            cell(k, *inputs, params, *outs)
+        return outs
+
+    got = cpu.sweep(designs, w, starts, **kw)
+    want = run(python[2].sweep, (designs, w, starts), got)
+    pts = cpu.points(designs, starts, np.arange(n) % 3, ei, w4[:, 0], w4[:, 1], **kw)
+    w2 = np.hstack([w4[:, :2], np.zeros((n, 2))])  # points' layout: (w1, w2, 0, 0)
+    pts_want = run(python[2].points, (designs[np.arange(n) % 3], starts, ei, w2), pts)
+    p4 = cpu.points4(coords, starts, ei, w4, **kw)
+    p4_want = run(python[4].points, (coords, starts, ei, w4), p4)
+    for a, b in zip((*got, *pts, *p4), (*want, *pts_want, *p4_want), strict=True):
+        assert a.dtype == b.dtype and a.tobytes() == b.tobytes()
+    assert np.isfinite(got[0]).any() and np.isnan(got[0]).any()  # successes and failures
+    assert np.isfinite(p4[0]).any() and np.isnan(p4[0]).any()
+    if integrator == "dp5":
+        assert (got[2] != 0).any()  # and step caps

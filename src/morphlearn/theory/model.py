@@ -327,10 +327,16 @@ def build(jit: Callable[[Any], Any], synapses: int = 2) -> Callable[..., tuple[f
         raise ValueError(f"synapses must be one of {sorted(SYNAPSES)}, got {synapses!r}")
     ns: dict[str, Any] = dict(globals())
     for name in _FUNCS:
-        f = globals()[SYNAPSES[synapses] if name == "rhs" else name]
-        g = types.FunctionType(f.__code__, ns, name, f.__defaults__, f.__closure__)
-        # numba's on-disk cache keys a function by file, line and qualname: the four-synapse twins
-        # need names of their own, or they would load the two-synapse machine code.
-        g.__qualname__ = name if synapses == 2 else f"{name}_synapses{synapses}"
-        ns[name] = jit(g)
+        ns[name] = jit(twin(globals()[SYNAPSES[synapses] if name == "rhs" else name], ns, synapses, name))
     return ns["trajectory"]
+
+
+def twin(f: Callable[..., Any], ns: dict[str, Any], synapses: int, name: str | None = None) -> Callable[..., Any]:
+    """``f``'s code as a function ``name`` (default: its own) whose globals are ``ns``, ready for a
+    decorator: its calls then resolve to the compiled functions in ``ns``. numba's on-disk cache
+    keys a function by file, line and qualname, so the four-synapse twins get names of their own,
+    or they would load the two-synapse machine code."""
+    name = name or f.__name__
+    g = types.FunctionType(f.__code__, ns, name, f.__defaults__, f.__closure__)
+    g.__qualname__ = name if synapses == 2 else f"{name}_synapses{synapses}"
+    return g
