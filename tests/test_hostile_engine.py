@@ -566,7 +566,6 @@ def test_a_killed_rerender_copy_is_removed_at_the_next_start_and_never_a_source(
     assert [s.bundle.name for s in explore.sources(results)] == ["b"]
     seen = []
     monkeypatch.setattr(bundle_rerender, "_render", lambda cmd, root, target: seen.append(target))
-    monkeypatch.setattr(bundle_rerender.bundle_check, "check", lambda path: [])
     with bundle_rerender.rendered_copy("results/b", tmp_path, 1) as (work, _, changed):
         assert work.name.startswith(f".rerender-b-{os.getpid()}-") and changed == {}
     assert not dead.exists() and not older.exists() and live.exists() and other.exists()

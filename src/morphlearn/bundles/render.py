@@ -95,6 +95,10 @@ def _failure(stderr: str, root: Path) -> tuple[str, list[Path], str]:
         if last:
             cause = last[-1]
             break
+    refusal = next((i for i, t in enumerate(lines) if t.startswith("morphlearn:")), None)
+    if not cause and refusal is not None:  # the workflow refused to start: its line and first detail
+        detail = lines[refusal + 1].strip() if refusal + 1 < len(lines) and lines[refusal + 1].startswith("  ") else ""
+        cause = " ".join(filter(None, (lines[refusal].strip(), detail)))
     if not cause:  # no rule log: Snakemake's own words (a missing input, a syntax error)
         own = [t.strip() for t in lines if re.search(r"(Error|Exception)\b", t) and "Error in rule" not in t]
         cause = own[0] if own else (lines[-1].strip() if lines else "no error output")
@@ -167,10 +171,25 @@ def remove_stale(bundle_path: Path) -> list[Path]:
 
 
 def _copy_as_committed(src: Path, dst: Path, listed: dict[str, str]) -> None:
-    """``bundle.json`` and the files it lists, as a fresh clone holds them (mtimes kept)."""
+    """``bundle.json`` and the files it lists, as a fresh clone holds them (mtimes kept); a listed
+    file that is missing stays missing (the render's start check names it)."""
     for rel in [bundle.MANIFEST, *listed]:
-        (dst / rel).parent.mkdir(parents=True, exist_ok=True)
-        shutil.copy2(src / rel, dst / rel)
+        if (src / rel).is_file():
+            (dst / rel).parent.mkdir(parents=True, exist_ok=True)
+            shutil.copy2(src / rel, dst / rel)
+
+
+def _manifest(path: Path) -> dict[str, Any]:
+    """The bundle's manifest, enough of it to copy the bundle (a JSON object whose ``files`` maps
+    paths to digests); BundleError naming the file otherwise."""
+    mpath = path / bundle.MANIFEST
+    try:
+        manifest = bounded.json_file(mpath)
+    except (OSError, ValueError) as e:
+        raise bundle.BundleError(f"{mpath}: not re-rendered: unreadable ({e})") from e
+    if not (isinstance(manifest, dict) and isinstance(manifest.get("files"), dict)):
+        raise bundle.BundleError(f"{mpath}: not re-rendered: not a JSON object with 'files'")
+    return manifest
 
 
 @contextmanager
@@ -179,21 +198,26 @@ def rendered_copy(bundle_dir: str | Path, root: str | Path, cores: int = 2) -> I
     (``.rerender-<name>-<pid>-*``, removed after, or at the next start when this process was
     killed): yields the copy, the bundle's manifest and the listed files whose digests the render
     changed (relative path -> new digest). The bundle itself is not touched. BundleError if it is
-    not whole first or the render fails (naming the failing rule's error; its log kept beside the
-    bundle, :func:`failed_log`)."""
+    not whole or the render fails (naming the failing rule's error; its log kept beside the
+    bundle, :func:`failed_log`).
+
+    Whole means what the render's own start check says (``rules.check_render_inputs``: the copy
+    against its manifest, file by file and row by row): one check, the one a render run by hand
+    gets, not a second one here first."""
     root = Path(root)
     path = root / bundle_dir
-    problems = bundle_check.check(path)
-    if problems:
-        raise bundle.BundleError(f"{bundle_dir}: not re-rendered: {len(problems)} problem(s) first, {problems[0]}")
-    manifest = bounded.json_file(path / bundle.MANIFEST)  # checked just above: a JSON object with its files
+    manifest = _manifest(path)
     remove_stale(path)
     # the pid in the name: the next start knows whether this copy's render is still running
     work = Path(tempfile.mkdtemp(prefix=f"{WORK_PREFIX}{path.name}-{os.getpid()}-", dir=path.parent))
     try:
         _copy_as_committed(path, work, manifest["files"])
         rel = work.relative_to(root) if work.is_relative_to(root) else work
-        _render(render_command(rel, manifest, cores), root, rel)
+        try:
+            _render(render_command(rel, manifest, cores), root, rel)
+        except bundle.BundleError as e:  # said of the bundle, not of its working copy
+            said = str(e).replace(str(rel), str(bundle_dir))
+            raise bundle.BundleError(f"{bundle_dir}: not re-rendered: {said}") from e
         changed = {r: provenance.sha256_file(work / r) for r in manifest["files"]}
         yield work, manifest, {r: d for r, d in changed.items() if d != manifest["files"][r]}
     finally:
