@@ -18,11 +18,13 @@ import numpy as np
 import pandas as pd
 from scipy import stats
 
-from morphlearn import config, metrics, models
+from morphlearn import config, metrics
 
 COORDS = ["l1x", "l1y", "l2x", "l2y"]
-#: The default names of the two tables (their columns' suffixes): the first two registered models.
-PAIR: tuple[str, str] = tuple(models.MODELS)[:2]  # type: ignore[assignment]
+#: The default names of the two tables (their columns' suffixes): the comparison's two sides, the
+#: theory and a physics model, whichever engine that is (not the registry's first two names, which
+#: named an ODE survey's columns "empirical", pybullet's key).
+PAIR: tuple[str, str] = ("theory", "physics")
 
 
 #: Fewest bootstrap resamples of an interval: the config's ``learners.bootstrap`` minimum (one rule).
@@ -76,7 +78,7 @@ def read_table(path: str | Path) -> pd.DataFrame:
 
 def joined(a: pd.DataFrame, b: pd.DataFrame, names: tuple[str, str] = PAIR) -> pd.DataFrame:
     """One row per design in both tables: coordinates, ``<metric>_<name>`` of each table (e.g.
-    ``M_L_theory``, ``M_L_empirical``) and each table's rank by each metric (1 = best; ties broken
+    ``M_L_theory``, ``M_L_physics``) and each table's rank by each metric (1 = best; ties broken
     as :func:`metrics.rank_designs`). Rows are paired by design index on one grid, by sensor
     coordinates across two (a survey of the 5-point grid beside a 9-point run pairs with the
     designs it shares; ``design`` is then the first table's index); no design in common is an
