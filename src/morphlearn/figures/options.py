@@ -72,6 +72,16 @@ def figure_robot(s: Settings | None = None) -> dict[str, Any]:
     }
 
 
+#: Figure options that name a module its notebook imports by name (``module:attribute`` under this
+#: key): Fig. 1C's body, which its engine supplies. That module's code is the figure's input too.
+IMPORTED_OPTIONS: dict[str, str] = {"figure_robot": "figure_body"}
+
+
+def imported_modules(opts: dict[str, Any]) -> list[str]:
+    """The modules a figure with notebook parameters ``opts`` imports by name (figures.registry.named_modules)."""
+    return [opts[o][key].split(":")[0] for o, key in IMPORTED_OPTIONS.items() if opts.get(o)]
+
+
 def trajectory_settings(s: Settings) -> dict[str, float]:
     """What a reference trajectory for a figure needs (figures.data.TheorySettings fields)."""
     p = s.models[models.REFERENCE].params
