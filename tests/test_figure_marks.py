@@ -103,23 +103,34 @@ def test_trajectory_figures_show_speed_and_name_their_design() -> None:
 
 def test_fig1_draws_the_robot_of_the_registry_figure_body() -> None:
     """The headline numbers are the authors' robot's in ODE: Fig. 1C draws that robot (it drew the
-    project's pybullet body), as the registry's figure_body says."""
+    project's pybullet body), as the registry's figure_body says, with the body the registry names
+    for it: ODE has no renderer, so pybullet's build of the authors' robot (Physics.figure_bodies)."""
     from morphlearn.figures.render import render_robot
+    from morphlearn.physics.body import FigureBody, load
 
     assert models.figure_body() == "ode" and models.get("ode").paper_engine
     s = configure.load(ROOT / "config.yaml", [ROOT / "config/paper.yaml"])
     drawn = options.figure_options(s, "fig1")["figure_robot"]
     assert (drawn["engine"], drawn["robot"], drawn["robot_label"]) == ("ODE", "authors", "the authors' robot")
     assert drawn["body"]["body_mass"] == yaml.safe_load((ROOT / "config/authors_body.yaml").read_text())["body_mass"]
+    assert drawn["figure_body"] == models.get("empirical").figure_bodies["authors"]  # type: ignore[attr-defined]
+    assert not models.get("ode").figure_bodies  # type: ignore[attr-defined]
     # the disagreement figure keeps the reference engine's body (the one both engines simulated there)
     assert models.reference_physics() == "empirical"
     from morphlearn.physics.params import EmpiricalParams
 
     p = EmpiricalParams.from_mapping(drawn["body"])
-    shot = render_robot(p, robot="authors", width=160, height=120)
+    shot = render_robot(drawn["figure_body"], p, width=160, height=120)
     assert shot.rgb.shape == (120, 160, 3) and set(shot.labels) >= {"sensor 1", "sensor 2", "castor", "light"}
-    with pytest.raises(ValueError, match=r"robot = 'ode'; allowed: \['authors', 'project'\]"):
-        render_robot(p, robot="ode")
+    # the notebook run on its own: the reference engine's first robot, its own body
+    alone = options.figure_robot()
+    own = models.get("empirical").figure_bodies["project"]  # type: ignore[attr-defined]
+    assert (alone["engine"], alone["robot"], alone["body"], alone["figure_body"]) == ("pybullet", "project", None, own)
+    assert isinstance(load(alone["figure_body"]), FigureBody)
+    with pytest.raises(LookupError, match="no registered engine builds the 'nobody' robot"):
+        models.figure_body_path("ode", "nobody")
+    with pytest.raises(TypeError, match=r"allowed: a morphlearn\.physics\.body\.FigureBody"):
+        render_robot("morphlearn.physics.body:GREY", p)
 
 
 def test_paper_design_note_is_one_sentence_not_a_second_parenthesis() -> None:

@@ -88,6 +88,8 @@ def _dry_run_after_edit(wd: Path, path: str) -> dict[str, int]:
     [
         ("src/morphlearn/figures/draw/matrix.py", {"fig2", "fig6"}),  # success and overlap matrices
         ("src/morphlearn/figures/draw/sketch.py", {"fig1", "fig3", "fig4", "fig5"}),  # robots, trajectory starts
+        # Fig. 1C's body, which its engine supplies (imported by the name its option gives)
+        ("src/morphlearn/empirical/figure_body.py", {"fig1"}),
         ("notebooks/style.mplstyle", {f"fig{i}" for i in range(1, 8)}),
     ],
 )

@@ -1,6 +1,8 @@
 """The plug-in, proved: a toy engine (trivial analytic physics on the physics base) registered by
 its own package and one line in the model registry, and nothing else changed, reaches the CLI,
-the shard / merge / metrics rules, a bundle, figures 3, 6 and 7 and the reproduction rows.
+the shard / merge / metrics rules, a bundle, figures 3, 6 and 7 and the reproduction rows. Toy
+engines registered in this process give a paper claim's row that differs their own reason and,
+registered as Fig. 1C's body, their own body, which Fig. 1C then draws.
 
 The project is copied (what a clone holds, :func:`conftest.copy_workflow`), the toy package is
 written into the copy's ``src`` and the registry line added; the copy's package is the one every
@@ -167,3 +169,93 @@ def test_a_toy_engine_gives_the_reason_of_its_paper_claim_row_that_differs(
     assert row["verdict"] == DIFFERS and (row["reason"], row["anchor"]) == want
     # the paper's engine keeps its committed reason (the bundles' reproduction rows)
     assert _differing_row("ode")["reason"].startswith("The authors' robot in ODE")
+
+
+# -- a toy engine's own figure body: Fig. 1C draws what the engine supplies ---------------------
+
+TOY_BODY = '''"""A toy engine's body for Fig. 1C: a box and two sensor spheres (no wheels, no castor)."""
+
+import pybullet as pb
+
+from morphlearn.physics.body import GREY, RED, YELLOW, FigureBody
+
+
+def build(p, l1, l2, light_xy):
+    c = pb.connect(pb.DIRECT)
+    box = pb.createVisualShape(pb.GEOM_BOX, halfExtents=[0.5, 0.5, 0.25], rgbaColor=GREY, physicsClientId=c)
+    pb.createMultiBody(0, -1, box, basePosition=[0, 0, 0.25], physicsClientId=c)
+    sensor = pb.createVisualShape(pb.GEOM_SPHERE, radius=0.15, rgbaColor=RED, physicsClientId=c)
+    for q in (l1, l2):
+        pb.createMultiBody(0, -1, sensor, basePosition=[q[0], q[1], 0.6], physicsClientId=c)
+    light = pb.createVisualShape(pb.GEOM_SPHERE, radius=p.light_radius, rgbaColor=YELLOW, physicsClientId=c)
+    pb.createMultiBody(0, -1, light, basePosition=[*light_xy, p.light_radius], physicsClientId=c)
+    parts = {"toy box": (0.0, 0.0, 0.5), "toy sensor 1": (l1[0], l1[1], 0.75), "toy sensor 2": (l2[0], l2[1], 0.75)}
+    return c, lambda: pb.disconnect(c), parts
+
+
+BODY = FigureBody(build=build, text="the toy's box with two sensor spheres (red)", offsets={"toy box": (-150, 60)})
+'''
+
+
+def _body_toy() -> object:
+    """A toy engine on the physics base, registered as Fig. 1C's body, with a body of its own."""
+    from types import MappingProxyType
+
+    from morphlearn.physics.model import Physics
+
+    class BodyToy(Physics):
+        name = "bodytoy"
+        engine = "bodytoy"
+        engine_label = "Toy"
+        figure_body = True
+        figure_bodies = MappingProxyType({"project": "toy_body:BODY"})  # its own body (TOY_BODY)
+
+    return BodyToy()
+
+
+def test_a_toy_engine_registered_as_fig1_body_draws_its_own_body(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """Fig. 1C draws the body the registry's figure_body engine supplies (its builder, its caption
+    words), not one the figure module builds: the toy's box and sensors, not the ODE robot."""
+    import matplotlib.image as mpimg
+    import numpy as np
+    import papermill
+
+    from morphlearn import configure, models
+    from morphlearn.figures import options
+    from morphlearn.figures.render import render_robot
+
+    root = Path(__file__).resolve().parents[1]
+    (tmp_path / "toy_body.py").write_text(TOY_BODY)
+    monkeypatch.syspath_prepend(str(tmp_path))
+    # the notebook's kernel imports the body too
+    monkeypatch.setenv("PYTHONPATH", os.pathsep.join([str(tmp_path), os.environ.get("PYTHONPATH", "")]))
+    s_ode = configure.load(root / "config.yaml", [root / "config/paper.yaml"])
+    ode = options.figure_robot(s_ode)
+    monkeypatch.setattr(type(models.MODELS[ode_name := models.figure_body()]), "figure_body", False)
+    monkeypatch.setitem(models.MODELS, "bodytoy", _body_toy())
+    s = configure.load(root / "config.yaml", [root / "config/paper.yaml"])  # parsed again: the toy registered
+    assert models.figure_body() == "bodytoy" and ode_name != "bodytoy"
+    drawn = options.figure_options(s, "fig1")["figure_robot"]
+    assert (drawn["engine"], drawn["robot"], drawn["figure_body"]) == ("Toy", "project", "toy_body:BODY")
+
+    shots = [render_robot(d["figure_body"], width=160, height=120) for d in (drawn, ode)]
+    assert set(shots[0].labels) == {"toy box", "toy sensor 1", "toy sensor 2"}  # the toy's parts, no wheel
+    assert "castor" in shots[1].labels and not np.array_equal(shots[0].rgb, shots[1].rgb)
+
+    # the figure itself: Fig. 1C's caption says the toy's words, its picture differs from the ODE body's
+    out = tmp_path / "fig1"
+    out.mkdir()
+    files = {"png": str(out / "fig1.png"), "pdf": str(out / "fig1.pdf"), "caption": str(out / "fig1.caption.md")}
+    params = options.figure_options(s, "fig1") | files | {"style": str(root / "notebooks/style.mplstyle")}
+    papermill.execute_notebook(
+        str(root / "notebooks/fig1.ipynb"), str(out / "fig1.ipynb"), parameters=json.loads(json.dumps(params)),
+        cwd=str(root), progress_bar=False,
+    )  # fmt: skip
+    caption = (out / "fig1.caption.md").read_text()
+    assert "the toy's box with two sensor spheres (red)" in caption and "as Toy simulates it" in caption
+    committed = mpimg.imread(root / "results/paper/figures/fig1.png")
+    mine = mpimg.imread(out / "fig1.png")
+    assert mine.shape == committed.shape and not np.array_equal(mine, committed)
+    sys.modules.pop("toy_body", None)  # the body's module goes with its folder

@@ -103,8 +103,23 @@ def schema_sections() -> dict[str, str]:
 
 def figure_body() -> str:
     """The physics model whose robot and body Fig. 1C draws (``Physics.figure_body``: the one the
-    headline numbers use, the authors' robot in ODE)."""
-    return next(n for n in physics() if getattr(MODELS[n], "figure_body", False))
+    headline numbers use, the authors' robot in ODE); exactly one registered engine sets it."""
+    found = [n for n in physics() if getattr(MODELS[n], "figure_body", False)]
+    if len(found) != 1:
+        raise LookupError(f"Fig. 1C draws one engine's body; Physics.figure_body is set by {found}")
+    return found[0]
+
+
+def figure_body_path(name: str, robot: str) -> str:
+    """Import path of the body (:class:`morphlearn.physics.body.FigureBody`) Fig. 1C draws for
+    physics model ``name``'s ``robot``: its own (``Physics.figure_bodies``), else that of the first
+    engine (:func:`physics` order) that builds the robot for the figure (an engine without a
+    renderer's build, ODE's, is drawn as one that has: pybullet's, to the same geometry)."""
+    for n in [name, *(n for n in physics() if n != name)]:
+        path = getattr(MODELS[n], "figure_bodies", {}).get(robot)
+        if path:
+            return str(path)
+    raise LookupError(f"no registered engine builds the {robot!r} robot for Fig. 1C (Physics.figure_bodies)")
 
 
 def reference_physics() -> str:

@@ -179,8 +179,17 @@ if RENDER_ONLY and FIGURES and RUN.kind == "paper":
 
 def figure_modules(fig):
     """Every package module the figure's notebook imports, directly or through other package
-    modules: editing any of them re-renders the figure (and no other code does)."""
-    return figure_registry.notebook_modules(figure_registry.notebook_path(fig), "src")
+    modules, or by a name its options give (Fig. 1C's body, which its engine supplies): editing
+    any of them re-renders the figure (and no other code does)."""
+    named = figure_options.imported_modules(FIGURE_OPTIONS[fig])
+    return sorted(
+        {
+            *figure_registry.notebook_modules(
+                figure_registry.notebook_path(fig), "src"
+            ),
+            *figure_registry.named_modules(named, "src"),
+        }
+    )
 
 
 def figure_parameters(fig):

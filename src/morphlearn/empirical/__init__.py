@@ -5,6 +5,7 @@ robot in pybullet, one engine on the physics layer (:mod:`morphlearn.physics`).
 - :mod:`.episode`: one episode (:class:`EpisodeRunner`) and a design's sweep
   (:func:`evaluate_design`);
 - :mod:`.optimise`: the base-morphology optimisation (NSGA-II) that picks the body;
+- :mod:`.figure_body`: both robots' bodies as Fig. 1C draws them (the authors' also for ODE);
 - :mod:`.plugin`: the engine as a model plug-in (:class:`~.plugin.Pybullet`).
 
 Nothing is imported eagerly: the Snakefile and the theory/analysis rules import this package's

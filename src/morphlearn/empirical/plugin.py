@@ -5,6 +5,7 @@
 from __future__ import annotations
 
 from collections.abc import Callable
+from types import MappingProxyType
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -25,6 +26,14 @@ class Pybullet(Physics):
     env_file = "envs/empirical.yaml"
     resumes_inside_design = True
     robots = ("project", "authors")
+    # Fig. 1C's bodies: both robots as this engine builds them (the authors' robot also for ODE,
+    # which has no renderer)
+    figure_bodies = MappingProxyType(
+        {
+            "project": "morphlearn.empirical.figure_body:PROJECT",
+            "authors": "morphlearn.empirical.figure_body:AUTHORS",
+        }
+    )
 
     @staticmethod
     def design_evaluator() -> Callable[..., DesignResult]:

@@ -49,17 +49,37 @@ def figures(s: Settings) -> list[str]:
     return [f for f, spec in FIGURE_SPECS.items() if met(spec.needs)]
 
 
-def figure_robot(s: Settings) -> dict[str, Any]:
-    """What Fig. 1C draws: the registry's ``figure_body`` model's engine, robot and body."""
-    name = models.figure_body()
-    model, sec = models.get(name), s.models[name]
+def figure_robot(s: Settings | None = None) -> dict[str, Any]:
+    """What Fig. 1C draws: the registry's ``figure_body`` model's engine, robot, body parameters and
+    the body it builds for the figure (``figure_body``: import path of its
+    :class:`morphlearn.physics.body.FigureBody`). Without settings (the notebook run on its own):
+    the reference physics engine's default robot with default parameters and no body file."""
+    if s is None:
+        name = models.reference_physics()
+        model = models.get(name)
+        robot, params, morphology = model.robots[0], None, None  # type: ignore[attr-defined]
+    else:
+        name = models.figure_body()
+        model, sec = models.get(name), s.models[name]
+        robot, params, morphology = sec.robot, sec.params.to_dict(), sec.morphology
     return {
         "engine": getattr(model, "engine_label", "") or getattr(model, "engine", name),
-        "robot": sec.robot,
-        "robot_label": model.robot_label({"robot": sec.robot}),  # type: ignore[attr-defined]
-        "body": sec.params.to_dict(),
-        "morphology": sec.morphology,
+        "robot": robot,
+        "robot_label": model.robot_label({"robot": robot}),  # type: ignore[attr-defined]
+        "body": params,
+        "morphology": morphology,
+        "figure_body": models.figure_body_path(name, robot),
     }
+
+
+#: Figure options that name a module its notebook imports by name (``module:attribute`` under this
+#: key): Fig. 1C's body, which its engine supplies. That module's code is the figure's input too.
+IMPORTED_OPTIONS: dict[str, str] = {"figure_robot": "figure_body"}
+
+
+def imported_modules(opts: dict[str, Any]) -> list[str]:
+    """The modules a figure with notebook parameters ``opts`` imports by name (figures.registry.named_modules)."""
+    return [opts[o][key].split(":")[0] for o, key in IMPORTED_OPTIONS.items() if opts.get(o)]
 
 
 def trajectory_settings(s: Settings) -> dict[str, float]:

@@ -7,7 +7,8 @@ key to the ``figures`` section of ``config_schema.yaml`` and name it in ``option
 
 A figure's rule re-runs when its notebook, the shared style file, its results or any package
 module its notebook imports (directly or through other package modules, see
-:func:`notebook_modules`) change, so no code edit can leave a stale figure.
+:func:`notebook_modules`, or by a name its options give, :func:`named_modules`) change, so no code
+edit can leave a stale figure.
 
 Light imports only: the Snakefile imports this module at parse time.
 """
@@ -152,9 +153,21 @@ def notebook_modules(path: str | Path, src: str | Path = "src") -> list[str]:
 
     Paths are ``src``-prefixed as given (relative to the workflow root for rule inputs), sorted.
     """
+    return _closure(_imported(code_of(path), None), src)
+
+
+def named_modules(modules: Iterable[str], src: str | Path = "src") -> list[str]:
+    """The package's source files of ``modules`` (dotted names a figure imports by name at run
+    time, which no import statement shows: Fig. 1C's body, named by its option,
+    :func:`morphlearn.figures.options.imported_modules`) and of what they import, as
+    :func:`notebook_modules` gives them; a module outside the package adds none."""
+    return _closure(modules, src)
+
+
+def _closure(names: Iterable[str], src: str | Path) -> list[str]:
     src = Path(src)
     seen: dict[str, Path] = {}
-    todo: list[tuple[str, ...]] = [tuple(_imported(code_of(path), None))]
+    todo: list[tuple[str, ...]] = [tuple(names)]
     while todo:
         for name in todo.pop():
             if name != PACKAGE and not name.startswith(PACKAGE + "."):

@@ -6,6 +6,7 @@
   levers (adaptive weight grid, resume inside a design) in one place (MuJoCo and ODE run on it;
   pybullet still runs its own per-episode sweep, environment by environment: not moved yet);
 - :mod:`.params`: the body and world parameters (:class:`~.params.EmpiricalParams`);
+- :mod:`.body`: a body as Fig. 1C draws it (:class:`~.body.FigureBody`), what an engine supplies for the figure;
 - :mod:`.options`: the sweep's levers (early stop, adaptive weight grid);
 - :mod:`.reach`: the reach bound behind the early stop; :mod:`.refine`: the adaptive weight grid;
 - :mod:`.partial`: a running design's finished episodes (resume inside a design);

@@ -93,8 +93,14 @@ class Physics(Model):
     #: The engine as prose names it (tables, docs).
     engine_label: ClassVar[str] = ""
     #: Fig. 1C draws this engine's robot and body, the one the headline numbers use (read even when
-    #: the model is off, if figures are drawn).
+    #: the model is off, if figures are drawn); one registered engine sets it.
     figure_body: ClassVar[bool] = False
+    #: The bodies it builds for Fig. 1C: robot (a key of ROBOT_BODIES) -> import path
+    #: ``module:attribute`` of its :class:`morphlearn.physics.body.FigureBody` (builder, caption
+    #: words, label offsets), imported only when a figure draws it. An engine without a renderer's
+    #: build of a robot names none: Fig. 1C then draws the robot as the first registered engine
+    #: that names one builds it (:func:`morphlearn.models.figure_body_path`).
+    figure_bodies: ClassVar[Mapping[str, str]] = MappingProxyType({})
     #: The engine the paper's physics ran in (ODE): drawn and answered first where enabled.
     paper_engine: ClassVar[bool] = False
     #: Why its answer to a paper claim differs, where no claim-specific reason says more (the
