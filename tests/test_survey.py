@@ -206,9 +206,9 @@ def test_results_from_bad_values_are_named(tmp_path: Path) -> None:
     ok = configure.parse(cfgmod.deep_merge(base, {"survey_from": {"bundle": str(root / "results" / "survey-mujoco")}}))
     assert ok.survey.model == "mujoco" and ok.survey.folder == "survey/mujoco" and ok.survey.thresholds
     # the survey figure: drawn from a survey_from bundle, also without the run's own survey
-    assert options.empirical_survey(ok)
-    assert options.empirical_survey(configure.parse(base))  # config.yaml: results/survey, all 625 designs
-    assert not options.empirical_survey(configure.parse(nine))
+    assert options.physics_survey(ok)
+    assert options.physics_survey(configure.parse(base))  # config.yaml: results/survey, all 625 designs
+    assert not options.physics_survey(configure.parse(nine))
 
 
 def test_default_run_reads_the_committed_survey(tmp_path: Path) -> None:

@@ -17,7 +17,7 @@ from morphlearn.settings import Settings, Source
 PAPER_FIGURES = tuple(f for f, spec in FIGURE_SPECS.items() if spec.needs is None)
 
 
-def empirical_survey(s: Settings) -> bool:
+def physics_survey(s: Settings) -> bool:
     """A physics survey of every design of the grid: the run's (simulated, or read from a bundle
     that holds them all) or the bundle of ``survey_from`` (which the survey figure then draws)."""
     e = s.models[models.reference_physics()]
@@ -25,7 +25,7 @@ def empirical_survey(s: Settings) -> bool:
 
 
 #: Figure conditions besides "a config section is enabled" (registry ``needs``).
-FIGURE_CONDITIONS: dict[str, Callable[[Settings], bool]] = {"empirical_survey": empirical_survey}
+FIGURE_CONDITIONS: dict[str, Callable[[Settings], bool]] = {"physics_survey": physics_survey}
 #: Config sections with an ``enabled`` switch that a figure may need.
 STAGES: dict[str, Callable[[Settings], bool]] = {
     "learners": lambda s: s.learners.enabled,

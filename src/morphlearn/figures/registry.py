@@ -96,7 +96,7 @@ FIGURES: dict[str, Figure] = {
         reads=(), needs="agreement", files=("agreement.csv", "agreement.json", "agreement.provenance.json")
     ),
     # beyond the paper: theory against physics per design (issue 12; config/survey.yaml)
-    "survey": Figure(reads=("theory", REFERENCE_PHYSICS), needs="empirical_survey", options=("top",), survey=True),
+    "survey": Figure(reads=("theory", REFERENCE_PHYSICS), needs="physics_survey", options=("top",), survey=True),
 }
 
 #: Every figure rule's input: the one matplotlib style all figures use.
