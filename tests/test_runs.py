@@ -23,7 +23,7 @@ def _settings(*overlays: str, **override: object) -> object:
 def test_default_config_is_the_papers_workflow() -> None:
     r = runs.run(_settings())
     assert r.kind == "paper" and r.figures is None
-    assert r.rules == ("simulate", "empirical", "analysis", "figures")  # no learners, coopt, bundle
+    assert r.rules == ("simulate", "morphology", "analysis", "figures")  # no learners, coopt, bundle
 
 
 def test_stages_of_the_papers_workflow_follow_the_config() -> None:

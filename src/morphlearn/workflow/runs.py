@@ -67,7 +67,7 @@ def run(s: Settings) -> Run:
         if s.render_only
         else (
             "simulate",
-            "empirical",
+            "morphology",
             "analysis",
             *(("learners",) if s.learners.enabled else ()),
             *(("coopt",) if s.coopt.enabled else ()),
