@@ -380,8 +380,8 @@ def test_bundle_dir_refuses_what_it_did_not_make(
 
 def test_config_slip_cannot_overwrite_the_paper_bundle(run: Path) -> None:
     """``--configfile config/paper.yaml config/smoke.yaml`` names bundle_dir results/paper. Since
-    config/paper.yaml reads its theory from results/paper, the first guard the slip meets is that
-    read's (the smoke grid is not the bundle's); the bundle_dir guard behind it:
+    config/paper.yaml reads its theory from results/theory-paper, the first guard the slip meets is
+    that read's (the smoke grid is not the bundle's); the bundle_dir guard behind it:
     test_bundle_dir_refuses_what_it_did_not_make."""
     # the paper bundle and the bundles config/paper.yaml reads, as a clone holds them
     copy_paper_sources(run)
@@ -392,7 +392,7 @@ def test_config_slip_cannot_overwrite_the_paper_bundle(run: Path) -> None:
     )
     assert proc.returncode == 2, proc.stderr[-2000:]
     assert (
-        "theory.results_from = 'results/paper' holds theory results made with grid.positions_per_axis = 9, "
+        "theory.results_from = 'results/theory-paper' holds theory results made with grid.positions_per_axis = 9, "
         "this config has 3" in proc.stderr
     ), proc.stderr[-2000:]
     assert _snapshot(run / "results/paper") == before
