@@ -539,6 +539,47 @@ def _tiny_bundle(results: Path, name: str = "b") -> Path:
     return b
 
 
+@pytest.mark.parametrize("name", ["../outside.txt", "/etc/hostname", "a\x00b"])
+def test_a_rerender_reads_no_name_outside_the_bundle(
+    name: str, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """The render's working copy is made before the render's start check: a manifest that lists a
+    name outside the bundle (or one no file can have) is refused first, nothing copied or read."""
+    from morphlearn import provenance
+    from morphlearn.bundles import make as bundle
+
+    results = tmp_path / "results"
+    b = _tiny_bundle(results)
+    (results / "outside.txt").write_text("not the bundle's\n")
+    (b / "bundle.json").write_text(
+        json.dumps({"files": {"a.txt": provenance.sha256_file(b / "a.txt"), name: "0" * 64}})
+    )
+    monkeypatch.setattr(bundle_rerender, "_render", lambda *_: pytest.fail("rendered"))
+    with pytest.raises(
+        bundle.BundleError, match=r"^results/b: not re-rendered: bundle\.json lists .*outside the bundle"
+    ):
+        with bundle_rerender.rendered_copy("results/b", tmp_path, 1):
+            pass
+    assert not list(results.glob(".rerender-*"))
+
+
+def test_a_render_that_checks_nothing_at_start_still_refuses_a_missing_file(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """A bundle without figures renders nothing and its start check is skipped: a listed file that is
+    missing is said in one line, not a FileNotFoundError."""
+    from morphlearn.bundles import make as bundle
+
+    b = _tiny_bundle(tmp_path / "results")
+    (b / "a.txt").unlink()
+    monkeypatch.setattr(bundle_rerender, "_render", lambda *_: None)
+    with pytest.raises(
+        bundle.BundleError, match=r"^results/b: not re-rendered: a\.txt: listed in bundle\.json but missing"
+    ):
+        with bundle_rerender.rendered_copy("results/b", tmp_path, 1):
+            pass
+
+
 def _dead_pid() -> int:
     proc = subprocess.Popen([sys.executable, "-c", "pass"])
     proc.wait()

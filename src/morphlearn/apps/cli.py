@@ -251,21 +251,14 @@ def cmd_render(a: argparse.Namespace) -> int:
 
 def _listed_files(mpath: Path) -> dict[str, str]:
     """The files a bundle's manifest lists, or a UsageError naming the file, the key and what is
-    allowed (a manifest that is a list, a string, a number, null or whose files are not a mapping
-    once ended in an AttributeError traceback or was said to hold no figures)."""
-    from morphlearn import bounded
+    allowed (bundles.check.read_manifest)."""
+    from morphlearn.bundles import check as bundle_check
+    from morphlearn.bundles.make import BundleError
 
-    shape = "a JSON object whose 'files' maps each path in the bundle to its SHA-256"
     try:
-        man = bounded.json_file(mpath)
-    except ValueError as e:
-        raise UsageError(f"{mpath}: unreadable ({e}); allowed: {shape}") from None
-    if not isinstance(man, dict):
-        raise UsageError(f"{mpath}: top level is {json.dumps(man)[:40]}, not an object; allowed: {shape}")
-    files = man.get("files")
-    if not isinstance(files, dict) or not all(isinstance(k, str) and isinstance(v, str) for k, v in files.items()):
-        raise UsageError(f"{mpath}: 'files' = {json.dumps(files)[:40]} is invalid; allowed: {shape}")
-    return files
+        return bundle_check.read_manifest(mpath)["files"]
+    except BundleError as e:
+        raise UsageError(str(e)) from None
 
 
 #: Voila starts a kernel (about 320 MB) for every page request, and by default keeps it until the

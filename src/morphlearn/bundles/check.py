@@ -114,6 +114,33 @@ def special_files(out_dir: Path, listed: dict[str, str]) -> list[str]:
 NAME_MAX, PATH_MAX = 255, 4096
 
 
+#: What a manifest must be (:func:`read_manifest`).
+MANIFEST_SHAPE = "a JSON object whose 'files' maps each path in the bundle to its SHA-256"
+
+
+def read_manifest(mpath: Path) -> dict[str, Any]:
+    """A bundle's manifest, a JSON object whose ``files`` maps names to digests (the names not yet
+    checked: :func:`inside`), or a BundleError naming the file, the key and what is allowed (a
+    manifest that is a list, a string, a number, null or whose files are not a mapping once ended
+    in an AttributeError traceback)."""
+    try:
+        man = bounded.json_file(mpath)
+    except (OSError, ValueError) as e:
+        raise BundleError(f"{mpath}: unreadable ({e}); allowed: {MANIFEST_SHAPE}") from None
+    if not isinstance(man, dict):
+        raise BundleError(f"{mpath}: top level is {json.dumps(man)[:40]}, not an object; allowed: {MANIFEST_SHAPE}")
+    files = man.get("files")
+    if not isinstance(files, dict) or not all(isinstance(k, str) and isinstance(v, str) for k, v in files.items()):
+        raise BundleError(f"{mpath}: 'files' = {json.dumps(files)[:40]} is invalid; allowed: {MANIFEST_SHAPE}")
+    return man
+
+
+def inside(out_dir: Path, rel: str) -> bool:
+    """Whether a listed name names a path inside the bundle ``out_dir`` that a file can have (what
+    :func:`check` reads; a link out of the bundle is outside)."""
+    return _inside(rel, out_dir / rel, out_dir.resolve())
+
+
 def odd_name(rel: str) -> str | None:
     """Why a name a manifest lists cannot name a file (None when it can): a NUL byte, or a name
     longer than the file system allows. Said in the message instead of a traceback (issue 38)."""

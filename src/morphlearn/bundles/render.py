@@ -31,7 +31,7 @@ from typing import Any
 
 import yaml
 
-from morphlearn import bounded, provenance, store
+from morphlearn import provenance, store
 from morphlearn.bundles import check as bundle_check
 from morphlearn.bundles import make as bundle
 
@@ -179,19 +179,6 @@ def _copy_as_committed(src: Path, dst: Path, listed: dict[str, str]) -> None:
             shutil.copy2(src / rel, dst / rel)
 
 
-def _manifest(path: Path) -> dict[str, Any]:
-    """The bundle's manifest, enough of it to copy the bundle (a JSON object whose ``files`` maps
-    paths to digests); BundleError naming the file otherwise."""
-    mpath = path / bundle.MANIFEST
-    try:
-        manifest = bounded.json_file(mpath)
-    except (OSError, ValueError) as e:
-        raise bundle.BundleError(f"{mpath}: not re-rendered: unreadable ({e})") from e
-    if not (isinstance(manifest, dict) and isinstance(manifest.get("files"), dict)):
-        raise bundle.BundleError(f"{mpath}: not re-rendered: not a JSON object with 'files'")
-    return manifest
-
-
 @contextmanager
 def rendered_copy(bundle_dir: str | Path, root: str | Path, cores: int = 2) -> Iterator[tuple[Path, dict, dict]]:
     """Render a copy of the whole bundle ``bundle_dir`` (relative to ``root``) beside it
@@ -203,10 +190,20 @@ def rendered_copy(bundle_dir: str | Path, root: str | Path, cores: int = 2) -> I
 
     Whole means what the render's own start check says (``rules.check_render_inputs``: the copy
     against its manifest, file by file and row by row): one check, the one a render run by hand
-    gets, not a second one here first."""
+    gets, not a second one here first. Before the copy, only what the copy needs: the manifest's
+    shape, and every name it lists inside the bundle (nothing outside it is read or written)."""
     root = Path(root)
     path = root / bundle_dir
-    manifest = _manifest(path)
+    try:
+        manifest = bundle_check.read_manifest(path / bundle.MANIFEST)
+    except bundle.BundleError as e:
+        raise bundle.BundleError(f"{bundle_dir}: not re-rendered: {e}") from None
+    outside = [r for r in manifest["files"] if not bundle_check.inside(path, r)]
+    if outside:
+        raise bundle.BundleError(
+            f"{bundle_dir}: not re-rendered: {bundle.MANIFEST} lists {bundle_check.shown(outside[0])}, a path "
+            "outside the bundle or a name no file can have (not read)"
+        )
     remove_stale(path)
     # the pid in the name: the next start knows whether this copy's render is still running
     work = Path(tempfile.mkdtemp(prefix=f"{WORK_PREFIX}{path.name}-{os.getpid()}-", dir=path.parent))
@@ -218,6 +215,11 @@ def rendered_copy(bundle_dir: str | Path, root: str | Path, cores: int = 2) -> I
         except bundle.BundleError as e:  # said of the bundle, not of its working copy
             said = str(e).replace(str(rel), str(bundle_dir))
             raise bundle.BundleError(f"{bundle_dir}: not re-rendered: {said}") from e
+        missing = [r for r in manifest["files"] if not (work / r).is_file()]
+        if missing:  # a render that checks nothing at start (no figures) leaves them missing
+            raise bundle.BundleError(
+                f"{bundle_dir}: not re-rendered: {missing[0]}: listed in {bundle.MANIFEST} but missing"
+            )
         changed = {r: provenance.sha256_file(work / r) for r in manifest["files"]}
         yield work, manifest, {r: d for r, d in changed.items() if d != manifest["files"][r]}
     finally:
