@@ -21,7 +21,7 @@ setup(
             depends=["src/morphlearn/reduced/_lanes_kernel.h"],
             # the scalar kernel's arithmetic to the last bit: no contraction, no fast-math (the
             # AVX-512 build is chosen at run time inside the file, not by a flag here)
-            extra_compile_args=["-O2", "-std=c11", "-ffp-contract=off", "-fno-fast-math", "-Wno-psabi"],
+            extra_compile_args=["-O3", "-std=c11", "-ffp-contract=off", "-fno-fast-math", "-Wno-psabi"],
         ),
     ]
 )

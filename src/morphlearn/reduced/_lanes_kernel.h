@@ -1,5 +1,10 @@
 /* The reduced model's episodes, eight at a time: one lane an episode, compiled once per instruction
  * set by _lanes.c (which defines NAME, HAVE_FMA and includes this file inside a target region).
+ * GROUPS vectors of eight lanes are stepped in turn so their dependency chains overlap on the core.
+ * Where the time goes (perf, AVX-512): the six divisions a step (the sensors' 1 / (d1 d2), the two
+ * tanh's two each, the heading turn's 1 / (1 + t^2)) and the 512-bit ports' throughput; where every
+ * lane's tanh argument is below 1 (far from the light, most steps) tanh takes fdlibm's k = 0 branch
+ * alone, with no argument reduction.
  *
  * Every lane does exactly the scalar kernel's arithmetic (kernel.py as numba compiles it: no
  * contraction, the same expression order, the same branches as selects), so a lane's state is the
@@ -37,8 +42,10 @@ static inline __attribute__((always_inline)) V CAT(splat, NAME)(double v) {
 }
 #define S CAT(splat, NAME)
 
-#if HAVE_FMA
+#if HAVE_FMA /* a * b + c, -(a * b) + c, a * b - c, each rounded once */
 #define FMA(a, b, c) ((V)_mm512_fmadd_pd((__m512d)(a), (__m512d)(b), (__m512d)(c)))
+#define FNMA(a, b, c) ((V)_mm512_fnmadd_pd((__m512d)(a), (__m512d)(b), (__m512d)(c)))
+#define FMS(a, b, c) ((V)_mm512_fmsub_pd((__m512d)(a), (__m512d)(b), (__m512d)(c)))
 #endif
 
 /* expm1 at lanes whose argument lies in (-2, -2^-54] or [2, 44) (what tanh passes on), fdlibm's
@@ -54,6 +61,24 @@ static inline __attribute__((always_inline)) V CAT(expm1v, NAME)(V y, int fused)
     VI neg = bits < 0;
     VI hy = (bits >> 32) & 0x7fffffff;
     VI path0 = hy <= 0x3fd62e42;
+    if (!ANY(~path0)) { /* every lane at k = 0 (far from the light, most steps): no reduction */
+        V hfx = 0.5 * y;
+        V hxs = y * hfx;
+        V h2 = hxs * hxs;
+        V h4 = h2 * h2;
+#if HAVE_FMA
+        if (fused) {
+            V r1 = FMA(h4, FMA(hxs, S(q5), S(q4)), FMA(h2, FMA(hxs, S(q3), S(q2)), FMA(hxs, S(q1), S(1.0))));
+            V t = FNMA(r1, hfx, S(3.0));
+            V e = ((r1 - t) / FNMA(t, y, S(6.0))) * hxs;
+            return y - FMS(e, y, hxs);
+        }
+#endif
+        V r1 = ((1.0 + hxs * q1) + h2 * (q2 + hxs * q3)) + h4 * (q4 + hxs * q5);
+        V t = 3.0 - r1 * hfx;
+        V e = hxs * ((r1 - t) / (6.0 - y * t));
+        return y - (y * e - hxs);
+    }
     VI path1 = ~path0 & (hy < 0x3FF0A2B2);
     V half = SEL(neg, S(-0.5), S(0.5));
     VI kg = __builtin_convertvector(invln2 * y + half, VI); /* not fused in either build */
@@ -64,7 +89,7 @@ static inline __attribute__((always_inline)) V CAT(expm1v, NAME)(V y, int fused)
     V hi;
 #if HAVE_FMA
     if (fused)
-        hi = FMA(-tk, S(ln2_hi), y);
+        hi = FNMA(tk, S(ln2_hi), y);
     else
 #endif
         hi = y - tk * ln2_hi;
@@ -83,10 +108,10 @@ static inline __attribute__((always_inline)) V CAT(expm1v, NAME)(V y, int fused)
         V R2 = FMA(hxs, S(q3), S(q2));
         V R3 = FMA(hxs, S(q5), S(q4));
         r1 = FMA(h4, R3, FMA(h2, R2, R1));
-        t = FMA(-r1, hfx, S(3.0));
-        e = ((r1 - t) / FMA(-t, xr, S(6.0))) * hxs;
-        r0 = xr - FMA(e, xr, -hxs);
-        e2 = FMA(e - c, xr, -c) - hxs;
+        t = FNMA(r1, hfx, S(3.0));
+        e = ((r1 - t) / FNMA(t, xr, S(6.0))) * hxs;
+        r0 = xr - FMS(e, xr, hxs);
+        e2 = FMS(e - c, xr, c) - hxs;
         rm1 = FMA(S(0.5), xr - e2, S(-0.5));
     } else
 #endif
@@ -130,10 +155,14 @@ static inline __attribute__((always_inline)) V CAT(tanhv, NAME)(V x, int mode) {
     V ax = (V)(bits & 0x7fffffffffffffffLL);
     VI hx = (VI)ax >> 32;
     VI regular = (hx >= 0x3c800000) & (hx < 0x40360000);
+    if (!ANY(~(regular & (hx < 0x3ff00000)))) { /* every lane in [2^-55, 1): tanh's second branch only */
+        V t = EXPM1V(-2.0 * ax, mode == TANH_FMA);
+        return (V)((VI)(-t / (t + 2.0)) ^ sign);
+    }
     VI big = (hx >= 0x40360000) & (hx < 0x7ff00000);
     VI ge1 = hx >= 0x3ff00000;
     V arg = SEL(ge1, ax + ax, -2.0 * ax);
-    arg = SEL(regular, arg, S(2.0)); /* a harmless argument where the lane's result is not used */
+    arg = SEL(regular, arg, S(-0.25)); /* a harmless argument (k = 0) where the lane's result is unused */
     V t = EXPM1V(arg, mode == TANH_FMA);
     V qz = SEL(ge1, S(2.0), -t) / (t + 2.0); /* one division for both branches' quotients */
     V z = SEL(ge1, 1.0 - qz, qz);
@@ -254,15 +283,21 @@ static inline __attribute__((always_inline)) void CAT(load, NAME)(Lanes *L, int 
 }
 
 /* one pass of the eight lanes of ``L``: each live lane's checks at its step, then its step */
-static inline __attribute__((always_inline)) void CAT(pass, NAME)(Lanes *restrict Lp, const Consts *k, Py_ssize_t n,
+typedef struct {
+    V dt, vmax, dz2, radius2, hdt, l1x, l1y, l2x, l2y;
+} CAT(KV, NAME);
+
+static inline __attribute__((always_inline)) void CAT(pass, NAME)(Lanes *restrict Lp, const Consts *k,
+                                                                 const CAT(KV, NAME) *kv, Py_ssize_t n,
                                                                  Py_ssize_t *nextp, const double *lights,
                                                                  const double *w, int stop, int mode, long long *first,
                                                                  double *dmin, long long *nsteps,
                                                                  unsigned char *finite) {
     const double *g = k->g, *hm = k->hm, *cen = k->cen;
-    const double dt = k->dt, vmax = k->vmax, tmax = k->tmax, dz2 = k->dz2;
-    const double radius2 = k->radius * k->radius, hdt = 0.5 * dt;
-    const double l1x = k->sen[0], l1y = k->sen[1], l2x = k->sen[2], l2y = k->sen[3];
+    /* the scalars as vectors made once a call (kv): loaded with the operation, not broadcast each pass */
+    const V dt = kv->dt, vmax = kv->vmax, dz2 = kv->dz2, radius2 = kv->radius2, hdt = kv->hdt;
+    const V l1x = kv->l1x, l1y = kv->l1y, l2x = kv->l2x, l2y = kv->l2y;
+    const double tmax = k->tmax;
     const long long steps = k->steps;
     const VI none = {0, 0, 0, 0, 0, 0, 0, 0}, one = {1, 1, 1, 1, 1, 1, 1, 1};
 #define L (*Lp)
@@ -302,8 +337,14 @@ static inline __attribute__((always_inline)) void CAT(pass, NAME)(Lanes *restric
     V dd2 = e2x * e2x + e2y * e2y + dz2;
     V inv = 1.0 / (d1 * dd2);
     VI run = L.live & ~fresh;
-    V t_right = vmax * TANHV(SEL(run, w1 * dd2 * inv, S(0.5)), mode);
-    V t_left = vmax * TANHV(SEL(run, w2 * d1 * inv, S(0.5)), mode);
+    const int idle = ANY(~run); /* some lane rests or was loaded in this pass: its results are unused */
+    V arg_r = w1 * dd2 * inv, arg_l = w2 * d1 * inv;
+    if (idle) { /* a harmless argument there (a resting lane's state may be anything) */
+        arg_r = SEL(run, arg_r, S(0.5));
+        arg_l = SEL(run, arg_l, S(0.5));
+    }
+    V t_right = vmax * TANHV(arg_r, mode);
+    V t_left = vmax * TANHV(arg_l, mode);
     V om2 = q2 * q2;
     V f0 = g[0] * q0 + g[1] * q1 + g[2] * q2 + g[3] * q3 + g[4] * q4 + g[5] * q5 + om2 * cen[0];
     V f1 = g[6] * q0 + g[7] * q1 + g[8] * q2 + g[9] * q3 + g[10] * q4 + g[11] * q5 + om2 * cen[1];
@@ -331,7 +372,7 @@ static inline __attribute__((always_inline)) void CAT(pass, NAME)(Lanes *restric
     V q0n = cr * q0 + sr * q1;
     q1 = cr * q1 - sr * q0;
     q0 = q0n;
-    if (ANY(~run)) { /* lanes loaded in this pass or resting keep their state */
+    if (idle) { /* lanes loaded in this pass or resting keep their state */
         x = SEL(run, x, L.x), y = SEL(run, y, L.y), c = SEL(run, c, L.c), s = SEL(run, s, L.s);
         q0 = SEL(run, q0, L.q0), q1 = SEL(run, q1, L.q1), q2 = SEL(run, q2, L.q2);
         q3 = SEL(run, q3, L.q3), q4 = SEL(run, q4, L.q4), q5 = SEL(run, q5, L.q5);
@@ -364,6 +405,9 @@ static void NAME(const Consts *k, Py_ssize_t n, const double *lights, const doub
                  long long *first, double *dmin, long long *nsteps, unsigned char *finite) {
     Lanes L[GROUPS];
     Py_ssize_t next = 0;
+    const double dt = k->dt, radius = k->radius;
+    const CAT(KV, NAME) kv = {S(dt),           S(k->vmax),     S(k->dz2),      S(radius * radius), S(0.5 * dt),
+                              S(k->sen[0]), S(k->sen[1]), S(k->sen[2]), S(k->sen[3])};
     if (k->steps <= 0) { /* the scalar loop runs no step */
         for (Py_ssize_t i = 0; i < n; i++) first[i] = -1, dmin[i] = INFINITY, nsteps[i] = 0, finite[i] = 1;
         return;
@@ -379,7 +423,7 @@ static void NAME(const Consts *k, Py_ssize_t n, const double *lights, const doub
         if (!ANY(live)) break;
 #pragma GCC unroll 4
         for (int q = 0; q < GROUPS; q++)
-            CAT(pass, NAME)(&L[q], k, n, &next, lights, w, stop, mode, first, dmin, nsteps, finite);
+            CAT(pass, NAME)(&L[q], k, &kv, n, &next, lights, w, stop, mode, first, dmin, nsteps, finite);
     }
 }
 
@@ -390,4 +434,6 @@ static void NAME(const Consts *k, Py_ssize_t n, const double *lights, const doub
 #undef TANHV
 #ifdef FMA
 #undef FMA
+#undef FNMA
+#undef FMS
 #endif
