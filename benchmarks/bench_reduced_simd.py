@@ -8,9 +8,11 @@ cell set), and the ratios are what the run reports; absolute rates move with the
 first success or the horizon (as the sweep runs them), one thread (numba's set to 1 here), CPU
 seconds of this process. Every cell's outcomes (success step, closest approach, steps, finite) are
 compared between the two reduced kernels and must be identical. From the SIMD rate it estimates all
-6561 designs at 121 x 121, every cell, one of each mirror pair simulated. Usage::
+6561 designs at 121 x 121, every cell, one of each mirror pair simulated. ``--adaptive N``: also N
+of the designs swept whole at 121 x 121 with the levers of config/reduced_paper.yaml (adaptive grid,
+stride 6, near 2.5), scalar and SIMD in turn, and the 6561 map's cost with them. Usage::
 
-    python benchmarks/bench_reduced_simd.py [--designs 6] [--m 41] [--m-ode 5] [--seed 0]
+    python benchmarks/bench_reduced_simd.py [--designs 6] [--m 41] [--m-ode 5] [--seed 0] [--adaptive 0]
 """
 
 from __future__ import annotations
@@ -47,6 +49,7 @@ def main() -> None:
     ap.add_argument("--m", type=int, default=41, help="weights per axis of the reduced kernels' own cells")
     ap.add_argument("--m-ode", type=int, default=5, help="weights per axis of the cells all three run")
     ap.add_argument("--seed", type=int, default=0)
+    ap.add_argument("--adaptive", type=int, default=0, help="designs swept with the paper map's adaptive grid")
     a = ap.parse_args()
     body = load_params(ROOT / "config/authors_body.yaml")
     g = DesignGrid(9)
