@@ -103,6 +103,35 @@ def main() -> None:
             f"all 6561 designs at 121 x 121, every cell, mirror derivation ({simulated} simulated, "
             f"{episodes / 1e6:.1f} M episodes) at the {k} rate (big): {episodes / rate[k, 'big'] / 3600:.2f} core-hours"
         )
+    if a.adaptive:
+        adaptive(body, designs[: a.adaptive], simulated)
+
+
+def adaptive(body: object, designs: list, simulated: int) -> None:
+    """Whole sweeps with the paper map's levers, scalar and SIMD in turn, every result identical."""
+    import yaml
+
+    from morphlearn.physics.options import SweepOptions
+    from morphlearn.reduced.episode import evaluator
+
+    sec = yaml.safe_load((ROOT / "config/reduced_paper.yaml").read_text())["reduced"]
+    options, w = SweepOptions.from_config(sec), weights(121)
+    spent = {"cpu": 0.0, "cpu-simd": 0.0}
+    for d in designs:
+        out = {}
+        for b in spent:
+            t = time.process_time()
+            out[b] = evaluator(b)(*d, w, body, options=options)
+            spent[b] += time.process_time() - t
+        for v in ("first_time", "min_dist"):
+            if np.asarray(getattr(out["cpu"], v)).tobytes() != np.asarray(getattr(out["cpu-simd"], v)).tobytes():
+                raise SystemExit(f"design {d}: the adaptive sweeps' {v} differ between the kernels")
+    n = len(designs)
+    print(f"adaptive grid (config/reduced_paper.yaml's levers), {n} designs at 121 x 121, results identical:")
+    for b, t in spent.items():
+        hours = simulated * t / n / 3600
+        print(f"  {b:8s} {t / n:6.2f} CPU-s a design; 6561 designs ({simulated} simulated): {hours:.2f} core-hours")
+    print(f"  SIMD / scalar: {spent['cpu'] / spent['cpu-simd']:.2f}x")
 
 
 if __name__ == "__main__":
