@@ -215,7 +215,7 @@ def test_cuda_kernel_under_the_simulator_matches_the_cpu_kernel(tmp_path: object
 
 
 def test_unknown_backend_is_one_line() -> None:
-    with pytest.raises(ValueError, match="backend = 'gpu' is invalid; allowed: 'cpu', 'cuda'"):
+    with pytest.raises(ValueError, match="backend = 'gpu' is invalid; allowed: 'cpu', 'cpu-simd', 'cuda'"):
         run(BODY, *CANONICAL, [[1.0, 1.0]], [0], backend="gpu")
 
 

@@ -424,13 +424,18 @@ class Physics(Model):
             raise ValueError(f"{self.name}: robot {robot!r} is not built; allowed: {list(self.robots)}")
         return self.design_evaluator()
 
+    def section_evaluator(self, e: PhysicsSettings) -> Callable[..., DesignResult]:
+        """The ``evaluate_design`` a run of section ``e`` calls (a model with a kernel choice in its
+        section, the reduced model's backend, overrides it)."""
+        return self.robot_evaluator(e.robot)
+
     def evaluate(
         self, s: Settings, designs: np.ndarray, done: Done | None = None, partial: PartialPath | None = None
     ) -> list[DesignResult]:
         from tqdm import tqdm
 
         e = self.settings(s)
-        evaluate_design = self.robot_evaluator(e.robot)
+        evaluate_design = self.section_evaluator(e)
         w = self.weights(s)
         partial = partial if self.resumes_inside_design else None
         out = []

@@ -13,6 +13,9 @@ from morphlearn.physics.batch import Episodes, check_inputs
 from morphlearn.physics.params import EmpiricalParams
 from morphlearn.reduced.body import body
 
+#: The kernels that run a batch: scalar numba, SIMD lanes (C), CUDA (numba).
+BACKENDS = ("cpu", "cpu-simd", "cuda")
+
 
 def run(
     p: EmpiricalParams,
@@ -27,12 +30,16 @@ def run(
 ) -> tuple[Episodes, np.ndarray | None]:
     """Episodes of one design (sensor points ``l1``, ``l2``, project frame), weights ``w`` (n, 2),
     environments ``env`` (n,). ``path``: also the chassis centre at each step (n, steps, 2), NaN
-    after the episode stopped. ``backend``: ``cpu`` (numba, parallel over cores) or ``cuda`` (one
-    GPU thread an episode, :mod:`morphlearn.reduced.cuda`)."""
-    if backend not in ("cpu", "cuda"):
-        raise ValueError(f"backend = {backend!r} is invalid; allowed: 'cpu', 'cuda'")
+    after the episode stopped. ``backend`` (:data:`BACKENDS`): ``cpu`` (the scalar numba kernel,
+    parallel over cores), ``cpu-simd`` (eight episodes a core in SIMD lanes,
+    :mod:`morphlearn.reduced.simd`; the same outcomes to the last bit) or ``cuda`` (one GPU thread
+    an episode, :mod:`morphlearn.reduced.cuda`). Paths always come from the scalar kernel."""
+    if backend not in BACKENDS:
+        raise ValueError(f"backend = {backend!r} is invalid; allowed: {', '.join(map(repr, BACKENDS))}")
     if backend == "cuda":
         from morphlearn.reduced import cuda as kernel
+    elif backend == "cpu-simd":
+        from morphlearn.reduced import simd as kernel
     else:
         from morphlearn.reduced import cpu as kernel
     from morphlearn.reduced import cpu

@@ -1,6 +1,7 @@
 """The reduced model's CPU kernel: the episode of kernel.py compiled with numba, episodes in
 parallel over cores. (Stepping 8 episodes side by side on a core, to overlap their dependency
-chains, measured 1.4x slower: the state then lives in memory, not registers.)"""
+chains, measured 1.4x slower: the state then lives in memory, not registers. Across SIMD lanes it
+is faster: :mod:`morphlearn.reduced.simd`, ``reduced.backend: cpu-simd``.)"""
 
 from __future__ import annotations
 
