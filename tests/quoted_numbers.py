@@ -135,6 +135,19 @@ QUOTES: dict[str, list[tuple[str, ...]]] = {
             "(learn.learner != 'random').sum()",
             "0",
         ),
+        # your own designs
+        ("each in [-{0.5}, {0.5}]", "-gridmod.positions(2)[0]", "gridmod.positions(2)[-1]"),
+        ("`status`: {4} environments", "len(gridmod.ENV_ANGLES_DEG)"),
+        (
+            "took {72} s from a fresh clone (niced, {2} cores shared)",
+            "label('measured: the recipe from a fresh clone')",
+            "label('the machine it was measured on')",
+        ),
+        (
+            "`--model ode` takes about {1,800} CPU-s a design",
+            "cost_line('docs/ode.md', r'about \\*\\*([\\d,]+) CPU-s at 121 x 121')",
+        ),
+        ("the smallest that does: {21} for these three", "recipe_grid()"),
         # the render
         # measured (/usr/bin/time -v, niced, 2 loaded cores): 101 and 119 CPU-s at 0a70f09, 64 CPU-s and 50 s on i69
         (

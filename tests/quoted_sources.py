@@ -153,6 +153,21 @@ def w11(model: str) -> int:
     return 1 if len(r) and str(r.ours.iloc[0]).startswith("yes") else -1
 
 
+def recipe_designs() -> list[tuple[float, float, float, float]]:
+    """The designs of the README's "Your own designs" recipe: its loop's quoted "x1 y1 x2 y2"."""
+    text = (ROOT / "README.md").read_text().split("## Your own designs", 1)[1].split("\n## ", 1)[0]
+    loop = re.search(r"for d in ((?:\"[^\"]+\" ?)+); do", text)
+    assert loop, "README's recipe lost its loop over designs"
+    return [tuple(float(v) for v in d.split()) for d in re.findall(r"\"([^\"]+)\"", loop[1])]  # type: ignore[misc]
+
+
+def recipe_grid() -> int:
+    """The smallest grid.positions_per_axis that holds every coordinate of the recipe's designs."""
+    from morphlearn.grid import grids_holding
+
+    return grids_holding(sorted({v for d in recipe_designs() for v in d}))[0]
+
+
 def namespace() -> dict[str, Any]:
     """The names an expression of tests/quoted_numbers.py may use."""
 
@@ -167,4 +182,7 @@ def namespace() -> dict[str, Any]:
     ns.update({k: v for k, v in globals().items() if not k.startswith("_") and k not in ("TABLES", "namespace")})
     ns.update({"abs": abs, "len": len, "max": max, "min": min, "round": round, "sum": sum, "int": int, "np": np})
     ns.update({"engines": json_file("results/mujoco/engines.json")})
+    from morphlearn import grid as gridmod
+
+    ns["gridmod"] = gridmod
     return ns
