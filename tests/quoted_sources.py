@@ -69,6 +69,14 @@ def cfg(rel: str, dotted: str) -> Any:
     return value
 
 
+def default(dotted: str) -> Any:
+    """A config key's default (src/morphlearn/config_schema.yaml): ``default("figures.near_distance")``."""
+    node: Any = yaml.safe_load((ROOT / "src/morphlearn/config_schema.yaml").read_text())
+    for part in dotted.split("."):
+        node = node["properties"][part]
+    return node["default"]
+
+
 def paper(key: str) -> Any:
     """The paper's number of a claim of the reproduction table (morphlearn...claims), by key."""
     from morphlearn.figures.reproduction.claims import PHYSICS, THEORY
@@ -168,6 +176,43 @@ def recipe_grid() -> int:
     return grids_holding(sorted({v for d in recipe_designs() for v in d}))[0]
 
 
+def spearman_within(t: pd.DataFrame, a: str, b: str) -> float:
+    """Spearman's rho of two columns of one table over its designs."""
+    return float(stats.spearmanr(t[a], t[b]).statistic)
+
+
+def best_label() -> str:
+    """The persistence table's label of the paper's best design (reproduction.claim_values)."""
+    from morphlearn.figures.reproduction.claim_values import best_label as label_of
+
+    return label_of(csv(TABLES["pers"]))
+
+
+def screen_rule(by: str) -> Any:
+    """The reproduction table's screen rule for ``by`` (stages.screen.ruled_out): the reduced
+    model's map of all 6561 designs against ODE at the designs it refined."""
+    from morphlearn.figures.reproduction.stages.screen import ruled_out
+
+    return ruled_out(csv(TABLES["red_paper"]), csv(TABLES["screened"]), by)
+
+
+def agree_weights() -> int:
+    """The weights per synapse of results/agreement's comparison (its cells over its designs)."""
+    t = csv(TABLES["agree"])
+    return round(float(np.sqrt(t.cells_compared.iloc[0] / t.designs.iloc[0] / 4)))
+
+
+def survey_check() -> dict[str, int]:
+    """The ODE survey against the exhaustive runs at the designs both hold (tests/test_ode_bundles.py
+    checks cell by cell that none was missed): designs, successes, generalists."""
+    from morphlearn.analysis import compare
+
+    both = csv(TABLES["ode"]).merge(csv(TABLES["survey"]), on=compare.COORDS, suffixes=("", "_s"))
+    per_env = [f"n_{a}" for a in (45, 135, 225, 315)]
+    successes, generalists = int(both[per_env].to_numpy().sum()), int(both.generalists.sum())
+    return {"designs": len(both), "successes": successes, "generalists": generalists}
+
+
 def namespace() -> dict[str, Any]:
     """The names an expression of tests/quoted_numbers.py may use."""
 
@@ -180,7 +225,8 @@ def namespace() -> dict[str, Any]:
 
     ns = Tables()
     ns.update({k: v for k, v in globals().items() if not k.startswith("_") and k not in ("TABLES", "namespace")})
-    ns.update({"abs": abs, "len": len, "max": max, "min": min, "round": round, "sum": sum, "int": int, "np": np})
+    builtins = {f.__name__: f for f in (abs, len, max, min, round, sum, int, sorted)}
+    ns.update({**builtins, "np": np})
     ns.update({"engines": json_file("results/mujoco/engines.json")})
     from morphlearn import grid as gridmod
 
