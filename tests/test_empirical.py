@@ -167,14 +167,28 @@ def test_episode_progress_lines_are_throttled(capsys: pytest.CaptureFixture[str]
         "design 7 (1/2): 3/5 episodes, 10.333 s each, ~21 s left in this design",
         "design 7 (1/2): 5/5 episodes, 8.000 s each",
     ]
-    t = iter([0.0, 31.0, 40.0])  # the adaptive grid: an upper bound, no time left guessed
+    t = iter([0.0, 30.0, 40.0])  # the adaptive grid: an upper bound, and the time left at most
     log = EpisodeProgress("design 1/2 (index 7)", every_s=30.0, clock=lambda: next(t), at_most=True)
     log(3, 5)
     log(5, 5)
     assert capsys.readouterr().out.splitlines() == [
-        "design 1/2 (index 7): 3/5 episodes at most (adaptive weight grid)",
+        "design 1/2 (index 7): 3/5 episodes at most (adaptive weight grid), 30 s so far, "
+        "at most ~20 s left in this design",
         "design 1/2 (index 7): done in 40 s (adaptive weight grid)",
     ]
+
+
+def test_a_shard_says_its_time_left_from_the_designs_done(capsys: pytest.CaptureFixture[str]) -> None:
+    """The adaptive grid's episode counts are an upper bound (the ODE workflow's log once gave
+    '4451/58564 episodes at most' and no time left): the shard's time left comes from its designs."""
+    from morphlearn.physics.progress import DesignsProgress
+
+    t = iter([0.0, 100.0, 300.0, 330.0])
+    log = DesignsProgress(3, clock=lambda: next(t))
+    assert log(1) == "designs 1/3 done in 100 s, ~200 s left in this shard (at the mean of the designs done)"
+    assert log(2) == "designs 2/3 done in 300 s, ~150 s left in this shard (at the mean of the designs done)"
+    assert log(3) == "designs 3/3 done in 330 s"
+    assert len(capsys.readouterr().out.splitlines()) == 3
 
 
 def test_mirror_derive_simulates_one_of_each_pair(tmp_path: Path) -> None:

@@ -7,6 +7,7 @@ grid of ``n`` values per axis; the flat design index is ``((i1x * n + i1y) * n +
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -129,6 +130,16 @@ class DesignGrid:
         """One design of each mirror pair (the smaller index), sorted."""
         d = np.arange(self.size)
         return d[d <= self.mirror(d)]
+
+
+#: The most sensor positions per axis a config may ask (grid.positions_per_axis, the config schema).
+MAX_POSITIONS = 33
+
+
+def grids_holding(values: Sequence[float], n_max: int = MAX_POSITIONS) -> list[int]:
+    """The grids ``positions(n)``, n <= ``n_max``, that hold every one of ``values`` (a researcher's
+    off-grid sensor positions: which ``grid.positions_per_axis`` would take them)."""
+    return [n for n in range(2, n_max + 1) if all(np.isclose(positions(n), v, atol=1e-9).any() for v in values)]
 
 
 def canonical_design() -> tuple[tuple[float, float], tuple[float, float]]:

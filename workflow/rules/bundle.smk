@@ -11,6 +11,9 @@ BUNDLE_CONFIGS = [os.path.relpath(f) for f in workflow.configfiles]
 # Before anything runs: bundle_dir may only be absent, empty, or this config's own bundle.
 if workflow.is_main_process:
     try:
+        # the config locations check-bundle reads, said before anything runs
+        if S.bundle_dir:
+            bundlemod.check_config_locations(BUNDLE_CONFIGS)
         bundlemod.check_target(S.bundle_dir, bundlemod.made_by(BUNDLE_CONFIGS, R))
     except bundlemod.BundleError as err:
         print(f"morphlearn: {err}", file=sys.stderr)

@@ -122,7 +122,8 @@ FIGURES = figure_options.figures(S)
 FIGURE_OPTIONS = {fig: figure_options.figure_options(S, fig) for fig in FIGURES}
 FIGURE_TARGETS = [
     *(f"{R}/figures/{fig}.{ext}" for fig in FIGURES for ext in runs.FIGURE_EXTENSIONS),
-    *([f"{R}/reproduction.md"] if FIGURES else []),
+    # the reproduction table compares with the theory: not in a physics-only run
+    *([f"{R}/reproduction.md"] if FIGURES and models.REFERENCE in MODELS else []),
 ]
 # The targets of all: a stage's figures alone (scenarios.smk adds its comparison), or the
 # paper's workflow's figures and tables (coopt.smk adds its bundle).

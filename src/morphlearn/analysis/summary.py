@@ -46,16 +46,18 @@ def run_summary(
     """The summary of the models' tables (each checked against its record first); with
     ``out_prov`` its own sealed record: the tables' digests and the summary's."""
     summary = {"weights": s.grid.weights, "positions_per_axis": s.grid.positions_per_axis}
+    weights: dict[str, int] = {}  # each model's own weights per synapse (a physics model's may differ)
     for model, path in tables.items():
         provenance.check_derived(path)  # custody: the table its metrics rule wrote
         t = pd.read_csv(path)
         one = summarise(t, s.analysis.top)
-        one["controllers"] = len(models.get(model).weights(s)) ** 2
+        weights[model] = len(models.get(model).weights(s))
+        one["controllers"] = weights[model] ** 2
         summary[model] = one
     with store.atomic_path(out_json) as tmp:
         tmp.write_text(json.dumps(summary, indent=1, sort_keys=True) + "\n")
     with store.atomic_path(out_md) as tmp:
-        tmp.write_text(summary_markdown(summary))
+        tmp.write_text(summary_markdown(summary, weights))
     if out_prov is not None:
         libs = [lib for name in tables for lib in models.get(name).libraries]
         rec = provenance.record({"top": s.analysis.top, "models": sorted(tables)}, [], libs)
@@ -72,7 +74,18 @@ def _fmt(d: dict[str, Any]) -> str:
     )
 
 
-def summary_markdown(summary: dict[str, Any]) -> str:
+def grid_line(summary: dict[str, Any], weights: dict[str, int] | None = None) -> str:
+    """The grid the models ran on: ``grid.weights`` is the theory's; a physics model at another
+    weight grid (the reduced model at 121 x 121 beside a 41 x 41 theory) is named with its own."""
+    n, w = summary["positions_per_axis"], summary["weights"]
+    if not weights or all(m == w for m in weights.values()):
+        return f"Grid: {n} positions per axis per sensor, {w} weights per synapse."
+    each = ", ".join(f"{model} {m}" for model, m in weights.items())
+    return f"Grid: {n} positions per axis per sensor; weights per synapse: {each}."
+
+
+def summary_markdown(summary: dict[str, Any], weights: dict[str, int] | None = None) -> str:
+    """``weights``: each model's weights per synapse, where they may differ from ``grid.weights``."""
     names = list(metrics.METRICS)
     head = (
         f"| l1 | l2 | generalists | at least one | {' | '.join(names)} | flagged |\n"
@@ -81,8 +94,7 @@ def summary_markdown(summary: dict[str, Any]) -> str:
     lines = [
         "# Summary",
         "",
-        f"Grid: {summary['positions_per_axis']} positions per axis per sensor, "
-        f"{summary['weights']} weights per synapse.",
+        grid_line(summary, weights),
     ]
     for model in models.MODELS:
         one = summary.get(model)

@@ -100,7 +100,13 @@ def cmd_design(a: argparse.Namespace) -> int:
             f"{', '.join(owners[:-1]) + ' and ' if len(owners) > 1 else ''}{owners[-1]} "
             f"model{'s' if len(owners) > 1 else ''}; the {a.model} model takes {takes}"
         )
-    res = model.evaluate_one(l1, l2, gridmod.weights(a.weights), a)
+    from morphlearn.apps import design_output
+
+    # the files it writes are checked before the simulation (minutes to an hour of a core)
+    save = a.save and design_output.check_target("--save", a.save, (".npz",))
+    plot = a.plot and design_output.check_target("--plot", a.plot, design_output.PLOT_FORMATS)
+    w = gridmod.weights(a.weights)
+    res = model.evaluate_one(l1, l2, w, a)
     dm = design_metrics(~np.isnan(res.first_time), res.status)
     out = {
         "model": a.model,
@@ -113,6 +119,15 @@ def cmd_design(a: argparse.Namespace) -> int:
         **dm.values,
         "flagged": dm.flagged,
     }
+    if save:
+        meta = {"model": a.model, "l1": list(l1), "l2": list(l2), **{k: getattr(a, k) for k in ("r", "horizon", "dt")}}
+        design_output.save_arrays(save, res, w, {**meta, "robot": out.get("robot"), "morphology": a.morphology})
+    if plot:
+        title = (
+            f"{a.model}, {a.weights} x {a.weights} controllers: {dm.generalists} generalists\n"
+            f"l1 = ({l1[0]:g}, {l1[1]:g}), l2 = ({l2[0]:g}, {l2[1]:g})"
+        )
+        design_output.plot_map(plot, res, w, title)
     if a.json:
         print(json.dumps(out))
     else:
@@ -123,6 +138,9 @@ def cmd_design(a: argparse.Namespace) -> int:
         print(f"successes per environment: {envs}")
         print(f"generalists (O == 4): {dm.generalists}; at least one (O >= 1): {dm.at_least_one}")
         print(f"{vals}; flagged trajectories: {dm.flagged}")
+        for what, path in (("outcome arrays", save), ("map", plot)):
+            if path:
+                print(f"{what}: {path}")
     return 0
 
 
@@ -425,9 +443,25 @@ def build_parser() -> argparse.ArgumentParser:
         "--l2", nargs=2, type=float, required=True, metavar=("X", "Y"), help="sensor 2 on the body, x y in [-0.5, 0.5]"
     )
     d.add_argument("--weights", type=int, default=121, metavar="M", help="weights per synapse (121)")
-    d.add_argument("--r", type=float, default=None, help="light distance (theory: 4)")
-    d.add_argument("--horizon", type=float, default=None, help="simulated time (theory: 500)")
-    d.add_argument("--dt", type=float, default=None, help="use fixed-step RK4 with this step")
+    d.add_argument("--r", type=float, default=None, help="the theory's light distance (4); theory only")
+    d.add_argument("--horizon", type=float, default=None, help="the theory's simulated time T (500); theory only")
+    d.add_argument(
+        "--dt", type=float, default=None, help="the theory's integrator: fixed-step RK4 with this step; theory only"
+    )
+    d.add_argument(
+        "--save",
+        default=None,
+        metavar="FILE.npz",
+        help="also write the outcome arrays (first_time, min_dist, status: 4 environments x M x M) and "
+        "the weights to this .npz",
+    )
+    d.add_argument(
+        "--plot",
+        default=None,
+        metavar="FILE.png",
+        help="also draw the design's map: environments solved by each controller, generalists cyan "
+        "(.png, .pdf or .svg)",
+    )
     d.add_argument(
         "--morphology",
         default=None,
@@ -444,7 +478,13 @@ def build_parser() -> argparse.ArgumentParser:
     )
     d.add_argument("--json", action="store_true", help="print one JSON object")
     d.set_defaults(func=cmd_design)
-    v = sub.add_parser("verify", help="re-evaluate random stored cells with the scipy reference solver")
+    v = sub.add_parser(
+        "verify",
+        help="re-evaluate random stored cells with the scipy reference solver",
+        description="Re-evaluates a random sample of a theory run's stored cells (merged.zarr) with "
+        "scipy's reference solver and reports how many agree: success, first-success time within "
+        "--time-tol.",
+    )
     v.add_argument("--merged", required=True, metavar="PATH", help="a merged.zarr made by the workflow")
     v.add_argument("--samples", type=int, default=200, metavar="N", help="cells to re-evaluate (200)")
     v.add_argument("--seed", type=int, default=0, metavar="S", help="random seed of the sample (0)")
@@ -454,7 +494,13 @@ def build_parser() -> argparse.ArgumentParser:
     )
     v.add_argument("--json", action="store_true", help="print one JSON object")
     v.set_defaults(func=cmd_verify)
-    b = sub.add_parser("check-bundle", help="compare a results bundle's files with its bundle.json")
+    b = sub.add_parser(
+        "check-bundle",
+        help="compare a results bundle's files with its bundle.json",
+        description="Compares every file of a committed results bundle with the SHA-256 its bundle.json "
+        "lists (and, with --resimulate, re-simulates some of its designs and compares them exactly); "
+        "changes nothing.",
+    )
     b.add_argument("bundle", metavar="DIR", help="the bundle folder (e.g. results/paper)")
     b.add_argument(
         "--resimulate",
@@ -500,7 +546,13 @@ def build_parser() -> argparse.ArgumentParser:
     r.add_argument("bundle", metavar="DIR", help="the bundle, relative to the project root (e.g. results/survey)")
     r.add_argument("--cores", type=int, default=2, metavar="N", help="Snakemake cores (2)")
     r.set_defaults(func=cmd_rerender_bundle)
-    c = sub.add_parser("compare", help="rank agreement (Spearman, bootstrap interval) of two metrics tables")
+    c = sub.add_parser(
+        "compare",
+        help="rank agreement (Spearman, bootstrap interval) of two metrics tables",
+        description="How alike two metrics tables rank their designs: Spearman's rho of M_L and of M_CF "
+        "over the designs both hold (by coordinates) with a bootstrap interval, and the designs their "
+        "top-K share.",
+    )
     c.add_argument("a", metavar="METRICS_A", help="a metrics.csv (e.g. results/survey/theory/metrics.csv)")
     c.add_argument("b", metavar="METRICS_B", help="another, on the same design grid")
     c.add_argument("--resamples", type=int, default=2000, metavar="N", help="bootstrap resamples (2000)")

@@ -19,6 +19,7 @@ and the command in ``bundle.json`` regenerate them.
 from __future__ import annotations
 
 import json
+import re
 import shutil
 from collections.abc import Iterable
 from pathlib import Path
@@ -77,6 +78,24 @@ def drawn_designs(table: pd.DataFrame, n: int, top: int) -> np.ndarray:
         want |= set(metrics.rank_designs(table, by).design.head(top).astype(int))
     want |= {int(g.mirror(d)) for d in want}
     return np.array(sorted(d for d in want if d in present), dtype=np.int64)
+
+
+#: Where a bundled run's config files may lie: a relative path inside the project, of plain words,
+#: ending .yaml or .yml (check-bundle's rule, bundles.check.CONFIG_NAME: a bundle made from a
+#: config outside the project, "../my.yaml" or "/tmp/my.yaml", was written and then refused by
+#: check-bundle and the explorer).
+CONFIG_LOCATION = re.compile(r"(?!/)(?!-)(?!.*(^|/)\.\.(/|$))[\w./-]+\.ya?ml")
+
+
+def check_config_locations(configs: list[str]) -> None:
+    """Refuse (BundleError, before anything runs) a config file check-bundle would not read."""
+    for c in configs:
+        if not CONFIG_LOCATION.fullmatch(c):
+            raise BundleError(
+                f"--configfile {c}: a bundle's config files must lie inside the project (check-bundle and the "
+                "explorer read them there); allowed: a relative YAML path below the project root, e.g. "
+                "config/mine.yaml or mine.yaml; nothing was run"
+            )
 
 
 def command_of(configs: list[str]) -> str:

@@ -123,15 +123,18 @@ def metric_line(row: pd.Series, n_controllers: int, sep: str = ", ") -> str:
     return f"M_L = {row.M_L:.4g} ({int(row.generalists)} of {n_controllers} controllers){sep}M_CF = {row.M_CF:.4g}"
 
 
-def subset_best(res: ModelResults, others: Sequence[ModelResults | None] = ()) -> tuple[str, list[ModelResults]]:
+def subset_best(
+    res: ModelResults, others: Sequence[ModelResults | None] = (), name_ties: bool = False
+) -> tuple[str, list[ModelResults]]:
     """Caption text for a physics model's "best" design when its results hold only some of the
     grid's designs (e.g. the few refined at 121 x 121 weights in pybullet, issue 26): the best of
     those, not of all; and, for each results in ``others`` on the same weight grid that hold more
     designs (MuJoCo's refined candidates, or a survey of every design of a coarser grid whose
     positions are this one's: the ODE survey of the 5-point grid), which designs they rank best and
     whether ``res`` holds them (or their mirror images), so the choice of designs is checked, not
-    assumed. Returns the text ("" when ``res`` holds every design) and the results of ``others`` it
-    cites (for the caption's data paragraph)."""
+    assumed. ``name_ties``: say how many designs share the best M_L (the reproduction table's note;
+    the figures' captions keep their words). Returns the text ("" when ``res`` holds every design)
+    and the results of ``others`` it cites (for the caption's data paragraph)."""
     n = res.positions_per_axis or 0
     g = gridmod.DesignGrid(n)
     if res.n_designs == g.size:
@@ -158,6 +161,9 @@ def subset_best(res: ModelResults, others: Sequence[ModelResults | None] = ()) -
         else:  # a design's mirror image counts as the design here (MuJoCo flips none; pybullet few)
             ranks = f"ranks {design_text(best_l)} best by M_L and {design_text(best_cf)} best by M_CF"
             has = f"holds {sum(map(bool, found))} of the two (or their mirror images)"
+        tied = len(o.tied_with(best_l, "M_L"))
+        if name_ties and tied > 1:  # a mirror pair counts 2, as the table's note on the theory's best
+            ranks += f" ({tied} designs share its M_L {best_l.M_L:.4g}, a mirror pair counting 2)"
         p = o.positions_per_axis
         of = "" if p == n else f" of the {p}-point grid"
         text += (

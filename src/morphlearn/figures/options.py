@@ -24,8 +24,16 @@ def physics_survey(s: Settings) -> bool:
     return s.survey.bundle is not None or (e.enabled and len(e.held) == s.grid.designs.size)
 
 
+def physics_only(s: Settings) -> bool:
+    """A run of physics models without the theory (the maps figure: each design's map)."""
+    return not models.MODELS[models.REFERENCE].enabled(s) and bool(_physics_on(s))
+
+
 #: Figure conditions besides "a config section is enabled" (registry ``needs``).
-FIGURE_CONDITIONS: dict[str, Callable[[Settings], bool]] = {"physics_survey": physics_survey}
+FIGURE_CONDITIONS: dict[str, Callable[[Settings], bool]] = {
+    "physics_survey": physics_survey,
+    "physics_only": physics_only,
+}
 #: Config sections with an ``enabled`` switch that a figure may need.
 STAGES: dict[str, Callable[[Settings], bool]] = {
     "learners": lambda s: s.learners.enabled,
@@ -36,17 +44,22 @@ STAGES: dict[str, Callable[[Settings], bool]] = {
 
 
 def figures(s: Settings) -> list[str]:
-    """The figures this config draws (none without figures.enabled and the reference model):
-    the paper's and those whose ``needs`` is met."""
-    if not (s.figures.enabled and models.MODELS[models.REFERENCE].enabled(s)):
+    """The figures this config draws (none without figures.enabled): the paper's and those whose
+    ``needs`` is met; without the reference model (the theory) only those that read none of its
+    results (Fig. 1, the maps of a physics-only run's designs), where once it drew none, silently."""
+    if not s.figures.enabled:
         return []
+    with_theory = models.MODELS[models.REFERENCE].enabled(s)
 
     def met(needs: str | None) -> bool:
         if needs is None:
             return True
         return {**FIGURE_CONDITIONS, **STAGES}[needs](s)
 
-    return [f for f, spec in FIGURE_SPECS.items() if met(spec.needs)]
+    def drawable(spec: Any) -> bool:
+        return with_theory or not ({models.REFERENCE, REFERENCE_PHYSICS} & set(spec.reads))
+
+    return [f for f, spec in FIGURE_SPECS.items() if met(spec.needs) and drawable(spec)]
 
 
 def figure_robot(s: Settings | None = None) -> dict[str, Any]:

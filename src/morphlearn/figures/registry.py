@@ -95,6 +95,8 @@ FIGURES: dict[str, Figure] = {
     "agreement": Figure(
         reads=(), needs="agreement", files=("agreement.csv", "agreement.json", "agreement.provenance.json")
     ),
+    # a run without the theory (a researcher's own designs in a physics model): each design's map
+    "maps": Figure(reads=(PHYSICS,), needs="physics_only"),
     # beyond the paper: theory against physics per design (issue 12; config/survey.yaml)
     "survey": Figure(reads=("theory", REFERENCE_PHYSICS), needs="physics_survey", options=("top",), survey=True),
 }

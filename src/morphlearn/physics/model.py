@@ -13,7 +13,8 @@ from __future__ import annotations
 import argparse
 import os
 import platform
-from collections.abc import Callable, Mapping
+import sys
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from types import MappingProxyType
@@ -29,7 +30,7 @@ from morphlearn.model_interface import Done, Model, PartialPath, Resources
 from morphlearn.physics.authors import success_radius
 from morphlearn.physics.options import SweepOptions
 from morphlearn.physics.params import EmpiricalParams, load_params
-from morphlearn.physics.progress import EpisodeProgress
+from morphlearn.physics.progress import DesignsProgress, EpisodeProgress
 from morphlearn.results import DesignResult
 
 if TYPE_CHECKING:
@@ -44,6 +45,25 @@ DEFAULT_MORPHOLOGY = "config/empirical_morphology.yaml"
 ROBOT_BODIES = {"project": DEFAULT_MORPHOLOGY, "authors": "config/authors_body.yaml"}
 #: The robots as prose names them (tables, captions).
 ROBOT_LABELS = {"project": "the project's own body", "authors": "the authors' robot"}
+
+
+def off_grid_hint(designs: Sequence[Sequence[Sequence[float]]]) -> str:
+    """How to run designs off the config's grid: the smallest grid.positions_per_axis whose grid
+    holds every coordinate given (the workflow stores designs on one grid), or morphlearn design,
+    which takes any coordinates."""
+    from morphlearn.grid import grids_holding
+
+    coords = sorted({float(v) for d in designs for point in d for v in point})
+    fits = grids_holding(coords)
+    grid = (
+        f"grid.positions_per_axis: {fits[0]} holds them all ({fits[0] ** 4} designs)"
+        if fits
+        else "no grid.positions_per_axis up to 33 holds them all"
+    )
+    return (
+        f"allowed: positions on the grid; {grid}; any coordinates: morphlearn design --model MODEL "
+        "--l1 X Y --l2 X Y --save FILE.npz --plot FILE.png (README, 'Your own designs')"
+    )
 
 
 def other_robots_body(robot: str, morphology: str | Path) -> str | None:
@@ -270,7 +290,7 @@ class Physics(Model):
             try:
                 idx.append(g.index_of(tuple(l1), tuple(l2)))
             except ValueError as e:
-                raise ConfigError(f"{self.name}.designs.{i}: {e}") from None
+                raise ConfigError(f"{self.name}.designs.{i}: {e}; {off_grid_hint(designs)}") from None
         d = np.array(idx, dtype=np.int64)
         if sec.get("include_mirrors", True):
             d = np.concatenate([d, g.mirror(d)])
@@ -440,6 +460,7 @@ class Physics(Model):
         partial = partial if self.resumes_inside_design else None
         out = []
         screen = self._screen(e.options)
+        shard = DesignsProgress(len(designs))
         for i, d in enumerate(tqdm(designs, unit="design", mininterval=1.0)):
             label = f"design {i + 1}/{len(designs)} (index {int(d)})"
             print(f"{label}: started", flush=True)  # the shard log is never silent for a whole design
@@ -450,6 +471,7 @@ class Physics(Model):
             out.append(evaluate_design(*self.sensors(s, int(d)), w, e.params, progress=log, options=e.options, **kw))
             if done:
                 done(i, out[-1])  # stores the design (design_cache.save, which removes its partial file)
+            shard(i + 1)  # the shard's time left: the adaptive grid's episode counts give only a bound
         return out
 
     def _screen(self, options: SweepOptions) -> Callable[[int, EmpiricalParams], np.ndarray] | None:
@@ -551,8 +573,11 @@ class Physics(Model):
             params = load_params(path)
         except ValueError as e:
             raise UsageError(f"--morphology {path}: {e}") from None
+        # progress on stderr with the time left (half an hour for an ODE design at 121 x 121 once
+        # passed in silence); stdout keeps the result (--json: one line)
+        log = EpisodeProgress(f"design l1={l1} l2={l2}", every_s=10.0, stream=sys.stderr)
         with c_stdout_to_stderr():  # pybullet's banner
-            return self.robot_evaluator(robot)(l1, l2, w, params)
+            return self.robot_evaluator(robot)(l1, l2, w, params, progress=log)
 
     def cli_robot(self, a: argparse.Namespace) -> str:
         """``--robot``, checked against the robots this engine builds (default: its first)."""

@@ -46,6 +46,21 @@ def _folder(path: Path) -> Path:
     return path
 
 
+def time_left(finished: list[float], left: int, last: int = 10) -> str:
+    """ ", ~T left at the pace of the last designs finished" from the finishing times (file times)
+    of the designs done: the mean gap between the last ``last`` finishes (wall time, all shards
+    together), gaps over 6 times their median left out (a run paused between sessions); "" when
+    fewer than 2 designs are done or none is left."""
+    times = sorted(finished)[-(last + 1) :]
+    if left <= 0 or len(times) < 2:
+        return ""
+    gaps = np.diff(times)
+    gaps = gaps[gaps <= 6 * np.median(gaps)] if np.median(gaps) > 0 else gaps
+    secs = float(gaps.mean()) * left
+    when = f"{secs / 3600:.1f} h" if secs >= 5400 else f"{secs / 60:.0f} min"
+    return f"; ~{when} left at the pace of the last {len(gaps)} designs finished (wall time, every shard)"
+
+
 def run_progress(s: Any) -> list[str]:
     """Where a workflow run (settings ``s``) stands, from its design cache: per simulated physics
     model, the designs finished and, for a design in progress, the episodes its partial file holds
@@ -63,7 +78,8 @@ def run_progress(s: Any) -> list[str]:
         m = len(plugin.weights(s))
         cache = design_cache.cache_dir(s.results_dir, name, plugin.science(s))
         done = [d for d in designs if design_cache.design_path(cache, d).is_file()]
-        lines.append(f"{name}: {len(done)} of {len(designs)} designs finished in {cache}")
+        pace = time_left([design_cache.design_path(cache, d).stat().st_mtime for d in done], len(designs) - len(done))
+        lines.append(f"{name}: {len(done)} of {len(designs)} designs finished in {cache}{pace}")
         for d in designs:
             path = design_cache.partial_path(cache, d)
             if d in done or not path.is_file():

@@ -90,6 +90,13 @@ def _persistence(pers: pd.DataFrame | None, label: str, rule: str, scope: Scope)
     return Ours(f"{stays} of {len(sub)}", NOTE_SEP.join(x for x in (rule, spread) if x), stays / len(sub), scope)
 
 
+def best_label(pers: pd.DataFrame | None) -> str:
+    """The persistence table's label of the paper's "best design", (-0.5,-0.25),(0.5,0.25): that
+    design where it was integrated ("paper_best"; the best by M_L here is another design, with
+    another count of generalists), else the best by M_L, which it then is."""
+    return "paper_best" if pers is not None and (pers.design == "paper_best").any() else "best_M_L"
+
+
 def is_among(res: fd.ModelResults, top: pd.Series, design: fd.Design, by: str) -> bool:
     """``design`` or its mirror image is among the designs tied with ``top`` by ``by``."""
     tied = {fd.row_design(r) for _, r in res.tied_with(top, by).iterrows()}
@@ -155,7 +162,7 @@ def theory_values(res: fd.ModelResults, pers: pd.DataFrame | None, near: float) 
     if best is not None:
         out["theory_example_best"] = _examples(res, fd.PAPER_BEST_DESIGN, fd.PAPER_BEST_CONTROLLERS)
     rule = f"stays near = after its first success the centre never again moves farther than {near:g} from the light"
-    for key, label in (("theory_persistence_best", "best_M_L"), ("theory_persistence_canonical", "canonical")):
+    for key, label in (("theory_persistence_best", best_label(pers)), ("theory_persistence_canonical", "canonical")):
         out[key] = _persistence(pers, label, rule, per_design)
     return out
 
@@ -180,7 +187,7 @@ def physics_values(res: fd.ModelResults, others: Sequence[fd.ModelResults] = ())
     # each is judged at that design (as the authors' code names it), on the paper's weights; that it
     # is the best of all designs is a claim of its own (empirical_best_design), judged over all.
     pb = res.row(*PAPER_PHYSICS_BEST_DESIGN)
-    subset, _ = subset_best(res, others)
+    subset, _ = subset_best(res, others, name_ties=True)
     top, top_cf = res.best("M_L"), res.best("M_CF")
     if pb is None:
         why = f"the design is not among the {res.n_designs} designs held"

@@ -53,9 +53,10 @@ def survey_rows(
         f"(of {n}; ties share a rank); {higher} asymmetric designs higher on both"
     )
     same_pair = gridmod.DesignGrid(empirical.positions_per_axis).same_pair(best.design, top_cf.iloc[0].design)
+    # the three best and every design tied with the third (once three of four tied designs listed)
+    shown = top_l[top_l.M_L >= top_l.head(3).M_L.min()]
     top3 = "; ".join(
-        f"{fd.design_label(*fd.row_design(r))} (M_L {r.M_L:.4g}, M_CF {r.M_CF:.4g})"
-        for _, r in top_l.head(3).iterrows()
+        f"{fd.design_label(*fd.row_design(r))} (M_L {r.M_L:.4g}, M_CF {r.M_CF:.4g})" for _, r in shown.iterrows()
     )
     engine = "physics" if label == "empirical survey" else label.split()[0]
     items = [
