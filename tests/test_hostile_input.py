@@ -538,7 +538,7 @@ def test_results_dir_with_a_space_and_quote_reaches_the_figure_commands_whole(wf
 # --- results_dir: never a committed bundle (but to re-render it) nor a project folder (issue 38) ---
 
 #: What a run refused at start says is allowed (config.RESULTS_ALLOWED).
-WHERE_RESULTS_GO = "a folder of your own under results/ that is not a bundle"
+WHERE_RESULTS_GO = "a folder of your own under results/ that is neither a bundle nor committed"
 
 
 @pytest.mark.parametrize(

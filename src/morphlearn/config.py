@@ -416,11 +416,10 @@ def _check_cross(cfg: dict[str, Any], path_keys: Sequence[str]) -> None:
     """Checks across keys that need no design grid or file (those are the settings' and each
     model's: :func:`morphlearn.configure.parse`)."""
     _check_paths(cfg, path_keys)
-    if isinstance(cfg.get("results_dir"), str) and cfg["results_dir"]:
-        # one spelling of a folder: 'results/paper/' made every output 'results/paper//x', which no
-        # rule's input matches (hundreds of warnings, then a MissingInputException)
-        cfg["results_dir"] = os.path.normpath(cfg["results_dir"])
-    _check_results_dir(cfg["results_dir"], bool(cfg.get("render_only")))
+    _check_results_dir(cfg["results_dir"], bool(cfg.get("render_only")))  # named as given
+    # one spelling of a folder: 'results/paper/' made every output 'results/paper//x', which no
+    # rule's input matches (hundreds of warnings, then a MissingInputException)
+    cfg["results_dir"] = os.path.normpath(cfg["results_dir"])
     th = cfg["theory"]
     _check_analysis(cfg["analysis"], th)
     if cfg.get("render_only") and not (cfg["figures"]["enabled"] and th.get("enabled", True)):
