@@ -170,7 +170,32 @@ def facts() -> list[float]:
     for col in ("rho_ML_success", "rho_MCF_retention", "rho_MCF_retention_pos"):
         v = lc[col].dropna()
         out += [v.min(), v.max()]
+    out += _text_sweep_facts()
     return [float(x) for x in out]
+
+
+def _text_sweep_facts() -> list[float]:
+    """The second theory sweep (results/theory-text, 11 x 11, T = 1000): its named designs, its
+    designs at M_CF = 1, the r scan at the longest horizon (results/theory-text-checks), and the
+    numbers the table's second-sweep rows state (horizons, distances after success)."""
+    tt = _table("results/theory-text/theory/metrics.csv")
+    out: list[float] = []
+    for d in (CANONICAL, PAPER_BEST_THEORY, 684):  # 684: its best by M_L, (-0.5,0.5),(0,-0.5)
+        r = _row(tt, d)
+        out += [r.generalists, r.at_least_one, r.M_L, r.M_CF, r.flagged]
+    cf1 = tt[tt.M_CF == 1]
+    out += [len(cf1), cf1.M_L.max(), cf1.M_L.max() * 121]
+    rs = _table("results/theory-text-checks/r_scan.csv")
+    last = rs[rs.horizon == rs.horizon.max()]
+    out += [*last.r, *last.horizon, *(last.designs_run - 2)]  # 2: the canonical and the paper's design
+    out += [*last.canonical_generalists, *last.canonical_solvers, *last.canonical_mcf, *last.cf1_best_ml.dropna()]
+    rt = _table("results/paper/reproduction.csv")
+    for text in rt[rt.key.str.endswith("_text_sweep")][["ours", "note"]].to_numpy().ravel():
+        out += [float(x) for x in _NUMBER.findall(str(text).replace(",", ""))]
+    # the readings of the paper's numbers the section gives: 0.636 as 35/55, "10^5 timesteps" of the
+    # project's step theory.dt
+    out += [55, yaml.safe_load((ROOT / "config.yaml").read_text())["theory"]["dt"]]
+    return out
 
 
 def _survey_check() -> list[float]:
