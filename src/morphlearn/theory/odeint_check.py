@@ -126,6 +126,9 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("out", help="folder for one CSV per design and summary.csv")
     ap.add_argument("--top", type=int, default=50, help="the sweep's best designs by M_L, one of each mirror pair")
     ap.add_argument("--samples", type=int, default=100_000, help="output samples over the horizon")
+    ap.add_argument(
+        "--summarise", action="store_true", help="only summarise the designs already written (a run stopped early)"
+    )
     a = ap.parse_args(argv)
     if a.top < 1 or a.samples < 1:
         print(f"--top and --samples must be >= 1, got {a.top}, {a.samples}", file=sys.stderr)
@@ -143,6 +146,8 @@ def main(argv: list[str] | None = None) -> int:
             wanted.append(int(d))
     out = Path(a.out)
     out.mkdir(parents=True, exist_ok=True)
+    if a.summarise:  # the designs written so far, in the run's order
+        wanted = [d for d in wanted if (out / f"design_{d}.csv").exists()]
     for k, d in enumerate(wanted):
         f = out / f"design_{d}.csv"
         if not f.exists():  # resumable: written whole, once
