@@ -176,8 +176,9 @@ def facts() -> list[float]:
 
 def _text_sweep_facts() -> list[float]:
     """The second theory sweep (results/theory-text, 11 x 11, T = 1000): its named designs, its
-    designs at M_CF = 1, the r scan at the longest horizon (results/theory-text-checks), and the
-    numbers the table's second-sweep rows state (horizons, distances after success)."""
+    designs at M_CF = 1, the r scan at the longest horizon (results/theory-text-checks), odeint's
+    counts of its best designs (results/theory-text-odeint) and the numbers the table's
+    second-sweep rows state (horizons, distances after success)."""
     tt = _table("results/theory-text/theory/metrics.csv")
     out: list[float] = []
     for d in (CANONICAL, PAPER_BEST_THEORY, 684):  # 684: its best by M_L, (-0.5,0.5),(0,-0.5)
@@ -192,6 +193,8 @@ def _text_sweep_facts() -> list[float]:
     rt = _table("results/paper/reproduction.csv")
     for text in rt[rt.key.str.endswith("_text_sweep")][["ours", "note"]].to_numpy().ravel():
         out += [float(x) for x in _NUMBER.findall(str(text).replace(",", ""))]
+    od = _table("results/theory-text-odeint/designs/summary.csv")  # the paper's integrator on its best designs
+    out += [len(od), *od.to_numpy().ravel()]
     # the readings of the paper's numbers the section gives: 0.636 as 35/55, "10^5 timesteps" of the
     # project's step theory.dt
     out += [55, yaml.safe_load((ROOT / "config.yaml").read_text())["theory"]["dt"]]
