@@ -86,14 +86,15 @@ def copy_workflow(dest: Path) -> Path:
 
 def paper_sources() -> list[str]:
     """The committed bundles config/paper.yaml reads besides results/paper itself (its physics at
-    121 x 121, the 6561-design survey, the screen and its refinement): a clone holds them, so a copy
-    that parses that config needs them too."""
+    121 x 121, the 6561-design survey, the screen and its refinement, the second theory sweep): a
+    clone holds them, so a copy that parses that config needs them too."""
     import yaml
 
     cfg = yaml.safe_load((ROOT / "config/paper.yaml").read_text())
     found = [(sec or {}).get("results_from") for sec in cfg.values() if isinstance(sec, dict)]
     found.append((cfg.get("survey_from") or {}).get("bundle"))
     found += [(cfg.get("screen_from") or {}).get(k) for k in ("bundle", "refinement")]
+    found.append(cfg.get("text_sweep_from"))
     return sorted({p for p in found if p and p != "results/paper"})
 
 

@@ -82,6 +82,33 @@ def _check_cost(parsed: Mapping[str, Any], allowed: bool) -> None:
             raise cfgmod.ConfigError(why)
 
 
+def _parse_text_sweep(path: str | None, grid: st.GridSettings) -> str | None:
+    """The second theory sweep's bundle: present, and holding every design of this grid."""
+    if path is None:
+        return None
+    from morphlearn import store
+
+    key = "text_sweep_from"
+    merged = Path(path) / "theory" / "merged.zarr"
+    for need in (Path(path) / "bundle.json", merged):
+        if not need.exists():
+            raise cfgmod.ConfigError(
+                f"{key} = {path!r}: {need} is missing; allowed: a theory bundle of every design, or null"
+            )
+    try:
+        ds = store.open_merged(merged)
+        n = int(store.science_of(ds)["grid"]["positions_per_axis"])
+        held = int(ds.sizes["design"])
+    except Exception as e:  # a damaged store: say which and why, in one line
+        raise cfgmod.ConfigError(f"{key} = {path!r}: unreadable theory results ({e})") from None
+    if n != grid.positions_per_axis or held != grid.designs.size:
+        raise cfgmod.ConfigError(
+            f"{key} = {path!r} holds {held} designs of the {n}-point grid; allowed: every design of "
+            f"grid.positions_per_axis = {grid.positions_per_axis} ({grid.designs.size})"
+        )
+    return str(path)
+
+
 def parse(cfg: Mapping[str, Any]) -> st.Settings:
     """Validate ``cfg`` (defaults filled, cross-checks) and parse it into :class:`~morphlearn.settings.Settings`.
     Raises :class:`morphlearn.config.ConfigError` with a one-line message."""
@@ -120,6 +147,7 @@ def parse(cfg: Mapping[str, Any]) -> st.Settings:
         bundle_designs=v["bundle_designs"],
         survey=_parse_survey(v["survey_from"], grid),
         screen=_parse_screen(v["screen_from"], grid),
+        text_sweep=_parse_text_sweep(v["text_sweep_from"], grid),
         scenarios=v["scenarios"],
         scenario_file=v["scenario_file"],
         render_only=bool(v["render_only"]),

@@ -255,6 +255,8 @@ class Settings:
     survey: SurveySettings
     #: the best-design claims answered by a screen and its refinement (``screen_from``)
     screen: Screen
+    #: a theory bundle of every design at another weight grid and horizon (``text_sweep_from``)
+    text_sweep: str | None
     scenarios: str | list[str] | None
     scenario_file: str
     render_only: bool

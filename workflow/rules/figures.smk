@@ -77,6 +77,8 @@ rule reproduction:
         survey=SURVEY_FILES,
         # the screen and its refinement, read where they are (screen_from), when set
         screen=figure_options.screen_files(S),
+        # the second theory sweep, read where it is (text_sweep_from), when set
+        text_sweep=figure_options.text_sweep_files(S),
         # render_only: the stored persistence table, not integrated again
         stored_persistence=([f"{R}/persistence.csv"] if STORED_PERSISTENCE else []),
     output:
@@ -111,6 +113,7 @@ rule reproduction:
         thresholds={m: models.get(m).thresholds(S).__dict__ for m in MODELS},
         survey=figure_options.survey_option(S),
         screen=figure_options.screen_option(S),
+        text_sweep=S.text_sweep,
     script:
         "../scripts/reproduction.py"
 

@@ -22,6 +22,7 @@ table, persistence = build.run(
     p.coopt,
     p.survey,
     p.screen,
+    p.text_sweep,
     stored_persistence=stored[0] if stored else None,
 )
 writers.write(table, out.csv, out.md, out.html, p.config_name)
@@ -32,4 +33,5 @@ extra = [f"{s.results_dir}/learners/correlations.csv"] if p.learners else []
 extra += [f"{s.results_dir}/coopt/{n}.csv" for n in ("summary", "landscape")] if p.coopt is not None else []
 extra += [f"{s.results_dir}/{s.survey.folder}/metrics.csv"] if p.survey else []
 screen = [f"{b['bundle']}/{b['model']}/metrics.csv" for b in (p.screen or {}).values()]
+screen += [f"{p.text_sweep}/theory/metrics.csv"] if p.text_sweep else []
 record.write_record(s.results_dir, list(p.thresholds), [out.csv, out.md, out.html, pers_path], extra, screen)

@@ -137,6 +137,14 @@ def screen_files(s: Settings) -> list[str]:
     return [f for b in s.screen or () for f in Source(str(b.bundle), b.model).files()]
 
 
+def text_sweep_files(s: Settings) -> list[str]:
+    """What the second-sweep rows read: the bundle's manifest, metrics table and outcome store
+    (empty: none set)."""
+    if s.text_sweep is None:
+        return []
+    return [f"{s.text_sweep}/bundle.json", f"{s.text_sweep}/theory/metrics.csv", f"{s.text_sweep}/theory/merged.zarr"]
+
+
 def figure_options(s: Settings, fig: str) -> dict[str, Any]:
     """Notebook parameters of figure ``fig`` (registry: what it reads and takes).
 

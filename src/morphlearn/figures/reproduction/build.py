@@ -45,6 +45,7 @@ def run(
     coopt_sigma: float | None = None,
     survey: dict[str, Any] | None = None,
     screen: dict[str, Any] | None = None,
+    text_sweep: str | None = None,
     stored_persistence: str | Path | None = None,
 ) -> tuple[pd.DataFrame, pd.DataFrame]:
     """Load the results of the models of ``thresholds`` (model -> its thresholds: the models this
@@ -52,7 +53,8 @@ def run(
     stage ran (its rows use the evolution strategies at that step). ``survey``: the physics survey
     read from a bundle (its model and thresholds; config ``survey_from``). ``screen``: the screen
     and its refinement, each a bundle with its model and thresholds (config ``screen_from``), read
-    where they are. ``stored_persistence``:
+    where they are. ``text_sweep``: a theory bundle of every design at another weight grid and
+    horizon (config ``text_sweep_from``), read where it is. ``stored_persistence``:
     a persistence table already made for these results (render_only; checked at start by
     :func:`morphlearn.workflow.rules.check_stored_persistence`), read instead of integrated again."""
     corr = None
@@ -77,6 +79,16 @@ def run(
         pers = persistence_counts(theory, fd.TheorySettings(**settings), near, limit)
     engines = {m: r for m, r in res.items() if m in physics_models()[1:] and r is not None}
     table = reproduction_table(
-        theory, emp, pers, config_name, near, corr, engines, coopt, fd.load_survey(results_dir, survey), _screen(screen)
+        theory,
+        emp,
+        pers,
+        config_name,
+        near,
+        corr,
+        engines,
+        coopt,
+        fd.load_survey(results_dir, survey),
+        _screen(screen),
+        text_sweep,
     )
     return table, pers

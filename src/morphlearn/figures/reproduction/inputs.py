@@ -28,3 +28,5 @@ class TableInputs:
     survey: fd.ModelResults | None = None
     #: the screen (every design, a fast model's) and its refinement (the paper's engine at its best)
     screen: tuple[fd.ModelResults, fd.ModelResults] | None = None
+    #: the second theory sweep's bundle (config text_sweep_from)
+    text_sweep: str | None = None

@@ -31,6 +31,7 @@ STAGES: dict[str, Stage] = {
     "engines": Stage("each further physics engine: its survey or refined rows, and its agreement"),
     "learners": Stage("the learner stage: do M_L and M_CF predict learning (issue 15)"),
     "coopt": Stage("the coopt stage: co-optimising the body (issue 27)"),
+    "text_sweep": Stage("a second theory sweep (11 x 11 weights, horizon 1000): the paper's text values"),
 }
 
 

@@ -104,6 +104,7 @@ def reproduction_table(
     coopt: tuple[pd.DataFrame, pd.DataFrame, float] | None = None,
     survey: fd.ModelResults | None = None,
     screen: tuple[fd.ModelResults, fd.ModelResults] | None = None,
+    text_sweep: str | None = None,
 ) -> pd.DataFrame:
     """The table: the theory's claims, then the physics claims for each engine held (ODE first;
     ``empirical`` is the reference engine's results, ``engines`` the others'), then the rows
@@ -111,7 +112,8 @@ def reproduction_table(
     (``survey``, config ``survey_from``), each further engine's survey and agreement rows, the
     learner rows when ``learners`` (learners/correlations.csv) is given, the coopt stage's when
     ``coopt`` (its summary, landscape table and step) is given, the screen's when ``screen`` (a
-    fast model's map of every design and the paper's engine at its best, config ``screen_from``)."""
+    fast model's map of every design and the paper's engine at its best, config ``screen_from``), the
+    second theory sweep's when ``text_sweep`` (its bundle, config ``text_sweep_from``) is given."""
     engines = engines or {}
     rows = []
     said = {} if theory is None else theory_values(theory, persistence, near)
@@ -134,7 +136,9 @@ def reproduction_table(
     if not judges:  # the paper's physics claims, unanswered in this run
         rows += [claim_row(c, "physics", None, config_name) for c in CLAIMS if c.model == "physics"]
     rows += other_rows
-    inputs = TableInputs(theory, empirical, persistence, config_name, near, learners, engines, coopt, survey, screen)
+    inputs = TableInputs(
+        theory, empirical, persistence, config_name, near, learners, engines, coopt, survey, screen, text_sweep
+    )
     for name in stage_registry.STAGES:
         rows += [{"section": BEYOND_SECTION, **r} for r in stage_registry.rows_of(name)(inputs)]
     return pd.DataFrame(rows, columns=COLUMNS).fillna("")

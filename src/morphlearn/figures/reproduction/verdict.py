@@ -15,7 +15,11 @@ from dataclasses import dataclass
 from morphlearn.figures.reproduction.claims import COUNT, DESIGN, METRIC, NOT_RUN, SHARE, YES_NO
 
 REPRODUCED, DIFFERS, NOT_COMPARABLE = "reproduced", "differs", "not comparable"
-VERDICTS = (REPRODUCED, DIFFERS, NOT_COMPARABLE)
+#: Reproduced by a set-up that was itself inferred from the paper's numbers (a weight grid or
+#: horizon read off the values being checked): agreement is expected of a right guess, so it is
+#: weaker evidence than an independent reproduction, and counted apart.
+INFERRED = "reproduced (inferred set-up)"
+VERDICTS = (REPRODUCED, INFERRED, DIFFERS, NOT_COMPARABLE)
 
 #: A count of generalists agrees within this many controllers or this share of the paper's count,
 #: whichever is larger (a count of a few controllers moves by one with an integrator tolerance).
@@ -46,6 +50,12 @@ class Scope:
 
 
 FULL = Scope()
+
+
+def inferred(said: str) -> str:
+    """The verdict of a row whose set-up was inferred from the paper's numbers: a reproduction
+    becomes :data:`INFERRED`; differs and not comparable stay as they are."""
+    return INFERRED if said == REPRODUCED else said
 
 
 def agrees(kind: str, paper: float | bool, ours: float | bool) -> bool:

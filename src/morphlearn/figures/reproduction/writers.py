@@ -10,6 +10,7 @@ the same bytes."""
 from __future__ import annotations
 
 import html
+import re
 from collections.abc import Callable
 from pathlib import Path
 
@@ -17,7 +18,14 @@ import pandas as pd
 
 from morphlearn.figures.reproduction.claims import NOTE_SEP
 from morphlearn.figures.reproduction.table import BEYOND_SECTION, OTHER_ROBOT, PAPER
-from morphlearn.figures.reproduction.verdict import DIFFERS, NOT_COMPARABLE, REPRODUCED, TOLERANCES, VERDICTS
+from morphlearn.figures.reproduction.verdict import (
+    DIFFERS,
+    INFERRED,
+    NOT_COMPARABLE,
+    REPRODUCED,
+    TOLERANCES,
+    VERDICTS,
+)
 
 TITLE = "Reproduction table"
 #: Where the reasons of the "differs" verdicts are, from the repository's root (GitHub resolves it).
@@ -37,6 +45,13 @@ RULE = (
     "with the project's own body) answer another question, and are given beside the paper's claims without a "
     "verdict, counted apart."
 )
+#: What the verdict of a set-up inferred from the paper's numbers means (a note of its own, second,
+#: in a table that has such rows: the other tables read as before).
+INFERRED_RULE = (
+    f"**{INFERRED}**: reproduced by the verdict rule, by a sweep whose set-up (weight grid, horizon) was inferred "
+    "from the paper's numbers themselves; a right guess is expected to agree, so it is weaker evidence than an "
+    "independent reproduction, and counted apart."
+)
 #: The heading of the paper's physics claims as another robot or engine answers them.
 OTHER_HEADING = "The paper's physics claims in another engine or body (no verdict)"
 
@@ -45,7 +60,7 @@ def notes_of(table: pd.DataFrame, config_name: str) -> tuple[list[str], list[lis
     """The numbered notes (the rule first, then every distinct configuration and note text in
     order of first use) and, per row, the numbers it cites. A row's config is cited without the
     config files' names (said once, in the header); a config that is only those names is none."""
-    notes = [RULE]
+    notes = [RULE, *([INFERRED_RULE] if (table.verdict == INFERRED).any() else [])]
     cites: list[list[int]] = []
     for r in table.itertuples():
         mine = []
@@ -64,8 +79,10 @@ def notes_of(table: pd.DataFrame, config_name: str) -> tuple[list[str], list[lis
 def counts(table: pd.DataFrame) -> dict[str, dict[str, int]]:
     """Verdicts per model of the paper's claims, and in all ("all")."""
     claims = table[table.section == PAPER]
-    out = {m: {v: int((g.verdict == v).sum()) for v in VERDICTS} for m, g in claims.groupby("model", sort=False)}
-    out["all"] = {v: int((claims.verdict == v).sum()) for v in VERDICTS}
+    # the inferred set-up's verdict only where a table has it: the other tables count as before
+    held = [v for v in VERDICTS if v != INFERRED or (claims.verdict == v).any()]
+    out = {m: {v: int((g.verdict == v).sum()) for v in held} for m, g in claims.groupby("model", sort=False)}
+    out["all"] = {v: int((claims.verdict == v).sum()) for v in held}
     return out
 
 
@@ -90,7 +107,8 @@ def engine_sentence(table: pd.DataFrame) -> str:
 
 
 def _summary(c: dict[str, int]) -> str:
-    return f"{c[REPRODUCED]} reproduced, {c[DIFFERS]} differ, {c[NOT_COMPARABLE]} not comparable"
+    also = f", {c[INFERRED]} {INFERRED}" if c.get(INFERRED) else ""  # a table without such rows reads as before
+    return f"{c[REPRODUCED]} reproduced{also}, {c[DIFFERS]} differ, {c[NOT_COMPARABLE]} not comparable"
 
 
 def _verdict_md(r: object, docs: str) -> str:
@@ -153,6 +171,7 @@ sup a { text-decoration: none; color: #0969da; margin-left: 1px; }
      white-space: nowrap; }
 .v-reproduced { background: #dafbe1; color: #116329; } .v-differs { background: #fff1d6; color: #8a4600; }
 .v-not-comparable { background: #eaeef2; color: #44505c; }
+.v-reproduced-inferred-set-up { background: #eef8e6; color: #3d6b1f; }
 .why { display: block; color: #44505c; font-size: 13px; margin-top: .2rem; }
 ol.notes { font-size: 13px; color: #44505c; } ol.notes li { margin-bottom: .3rem; }
 .badges span { margin-right: .6rem; }
@@ -161,7 +180,6 @@ ol.notes { font-size: 13px; color: #44505c; } ol.notes li { margin-bottom: .3rem
 
 def _md_inline(text: str) -> str:
     """The few Markdown marks the notes use (bold, code) as HTML, after escaping."""
-    import re
 
     out = html.escape(text)
     out = re.sub(r"\*\*(.+?)\*\*", r"<strong>\1</strong>", out)
@@ -173,9 +191,9 @@ def to_html(table: pd.DataFrame, config_name: str = "", docs: str = DOCS) -> str
     e = html.escape
     notes, cites = notes_of(table, config_name)
     ref = lambda i: "".join(f'<sup><a href="#note-{n}">[{n}]</a></sup>' for n in cites[i])  # noqa: E731
-    badge = lambda v: f'<span class="v v-{v.replace(" ", "-")}">{e(v)}</span>'  # noqa: E731
+    badge = lambda v: f'<span class="v v-{re.sub("[^a-z]+", "-", v).strip("-")}">{e(v)}</span>'  # noqa: E731
     c = counts(table)
-    summary = " ".join(f"{badge(v)} {c['all'][v]}" for v in VERDICTS)
+    summary = " ".join(f"{badge(v)} {n}" for v, n in c["all"].items())
     per_model = "; ".join(f"{e(m)}: {e(_summary(v))}" for m, v in c.items() if m != "all")
     out = [
         "<!DOCTYPE html>",
