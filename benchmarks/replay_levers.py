@@ -1,0 +1,72 @@
+"""The adaptive grid replayed on exhaustive reduced-model maps (benchmarks/exhaustive_reduced.py's
+``.npz`` files): per design and lever (per environment, the grid before ``adaptive_cross_env``;
+across environments, the sweep's default), the generalists, ``at_least_one`` controllers and
+successes it would lose, the share of episodes and of steps it simulates (a failure runs the whole
+horizon, a success to its first success step: the adaptive run's cost), with no new simulation
+(:func:`morphlearn.physics.refine.misses`). Prints the per-design table as CSV to ``--csv`` and
+the totals as JSON.
+
+    python benchmarks/replay_levers.py /work/tmp/exhaustive9 --stride 6 --near 2.5 --csv replay.csv
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+
+from morphlearn.physics.params import load_params
+from morphlearn.physics.refine import misses, simulated_mask
+
+BODY = "config/authors_body.yaml"
+
+
+def replay(path: Path, stride: int, near: float, contact: float, steps: int, dt: float) -> list[dict]:
+    z = np.load(path)
+    first, dist = z["first_time"], z["min_dist"]
+    succ = ~np.isnan(first)
+    # steps an episode runs to its first success (first_time = first_step dt), the horizon otherwise
+    cost = np.where(succ, np.rint(np.nan_to_num(first) / dt) + 1, steps)
+    rows = []
+    for lever, across in (("per_env", False), ("cross_env", True)):
+        r = misses(succ, dist, contact, near, stride, across=across)
+        sim = simulated_mask(succ, dist, contact, near, stride, across=across)
+        r.update(design=int(z["design"]), lever=lever, step_share=float(cost[sim].sum() / cost.sum()))
+        rows.append(r)
+    return rows
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("folder", type=Path)
+    ap.add_argument("--stride", type=int, default=6)
+    ap.add_argument("--near", type=float, default=2.5)
+    ap.add_argument("--csv", type=Path)
+    a = ap.parse_args()
+    p = load_params(BODY)
+    files = sorted(a.folder.glob("design*[0-9].npz"))
+    rows = [r for f in files for r in replay(f, a.stride, a.near, p.contact_distance, p.steps, p.dt)]
+    t = pd.DataFrame(rows)
+    if a.csv:
+        t.to_csv(a.csv, index=False)
+    out = {"designs": len(files), "stride": a.stride, "near": a.near}
+    for lever, g in t.groupby("lever"):
+        out[lever] = {
+            "generalists": int(g.generalists.sum()),
+            "generalists_missed": int(g.generalists_missed.sum()),
+            "designs_missing_generalists": int((g.generalists_missed > 0).sum()),
+            "at_least_one": int(g.at_least_one.sum()),
+            "at_least_one_missed": int(g.at_least_one_missed.sum()),
+            "designs_missing_at_least_one": int((g.at_least_one_missed > 0).sum()),
+            "successes_missed": int(g.successes_missed.sum()),
+            "simulated_share_mean": round(float(g.simulated_share.mean()), 4),
+            "step_share_mean": round(float(g.step_share.mean()), 4),
+        }
+    print(json.dumps(out, indent=1))
+
+
+if __name__ == "__main__":
+    main()
