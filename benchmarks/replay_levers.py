@@ -7,12 +7,18 @@ horizon, a success to its first success step: the adaptive run's cost), with no 
 the totals as JSON.
 
     python benchmarks/replay_levers.py /work/tmp/exhaustive9 --stride 6 --near 2.5 --csv replay.csv
+    python benchmarks/replay_levers.py /work/tmp/exhaustive9 --time 20   # also the sweeps' CPU time
+
+``--time N``: the reduced model's adaptive sweep of the first N designs run for real with each
+lever (one thread: NUMBA_NUM_THREADS=1), its CPU seconds per design, after checking that its
+successes are the replay's.
 """
 
 from __future__ import annotations
 
 import argparse
 import json
+import time
 from pathlib import Path
 
 import numpy as np
@@ -39,12 +45,42 @@ def replay(path: Path, stride: int, near: float, contact: float, steps: int, dt:
     return rows
 
 
+def timed(files: list[Path], stride: int, near: float) -> dict[str, float]:
+    """CPU seconds per design of the reduced model's adaptive sweep with each lever (its
+    successes checked against the exhaustive map's kept by the replay)."""
+    from morphlearn import grid
+    from morphlearn.physics.options import SweepOptions
+    from morphlearn.reduced.episode import evaluate_design
+
+    p = load_params(BODY)
+    w = grid.weights(121)
+    c = grid.DesignGrid(9).coords(int(np.load(files[0])["design"]))
+    evaluate_design((c[0], c[1]), (c[2], c[3]), w[:13], p)  # compile outside the clock
+    out: dict[str, float] = {}
+    for lever, across in (("per_env", False), ("cross_env", True)):
+        opts = SweepOptions(adaptive_weights=True, stride=stride, near=near, cross_env=across)
+        spent = 0.0
+        for f in files:
+            z = np.load(f)
+            c = grid.DesignGrid(9).coords(int(z["design"]))
+            t = time.process_time()
+            r = evaluate_design((c[0], c[1]), (c[2], c[3]), w, p, options=opts)
+            spent += time.process_time() - t
+            succ = ~np.isnan(z["first_time"])
+            sim = simulated_mask(succ, z["min_dist"], p.contact_distance, near, stride, across=across)
+            if not np.array_equal(~np.isnan(r.first_time), succ & sim):
+                raise SystemExit(f"{f}: the sweep's successes are not the replay's ({lever})")
+        out[f"{lever}_cpu_s_per_design"] = round(spent / len(files), 3)
+    return out
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("folder", type=Path)
     ap.add_argument("--stride", type=int, default=6)
     ap.add_argument("--near", type=float, default=2.5)
     ap.add_argument("--csv", type=Path)
+    ap.add_argument("--time", type=int, default=0, help="also time the sweep on the first N designs")
     a = ap.parse_args()
     p = load_params(BODY)
     files = sorted(a.folder.glob("design*[0-9].npz"))
@@ -65,6 +101,9 @@ def main() -> None:
             "simulated_share_mean": round(float(g.simulated_share.mean()), 4),
             "step_share_mean": round(float(g.step_share.mean()), 4),
         }
+    if a.time:
+        out["timed_designs"] = min(a.time, len(files))
+        out.update(timed(files[: a.time], a.stride, a.near))
     print(json.dumps(out, indent=1))
 
 
