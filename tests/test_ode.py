@@ -43,7 +43,7 @@ def test_built_against_debians_ode_in_double_precision() -> None:
 def test_world_read_back_from_the_engine_is_the_authors() -> None:
     f = core.core().facts(core.params_tuple(BODY), (0.5, 0.5, 0.5, -0.5), (4.0, 4.0), 1.0, -0.5)
     assert f["gravity"] == (0.0, 0.0, -1.0) and f["space"] == "hash"
-    assert f["erp"] == 0.2  # ODE's defaults, never set
+    assert (f["erp"], f["cfm"]) == (0.2, 1e-10)  # the body file's: ODE's defaults in double precision
     b = {x["name"]: x for x in f["bodies"]}
     # creation order fixes the constraint rows' order
     assert [x["name"] for x in f["bodies"]] == [

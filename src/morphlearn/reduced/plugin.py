@@ -9,6 +9,7 @@ from collections.abc import Callable
 from typing import TYPE_CHECKING
 
 from morphlearn.physics.model import Physics
+from morphlearn.physics.params import EmpiricalParams
 
 if TYPE_CHECKING:
     from morphlearn.results import DesignResult
@@ -22,6 +23,13 @@ class Reduced(Physics):
     env_file = "envs/empirical.yaml"
     robots = ("authors",)
     levers_doc = "docs/reduced.md"
+    #: what the reduced model reads: not wheel_friction (mu is infinite), solver_iterations (its
+    #: step is solved exactly), erp nor cfm (its joints are rigid; its motor rows mix motor_cfm)
+    recorded_params = tuple(
+        k
+        for k in EmpiricalParams.__dataclass_fields__
+        if k not in ("wheel_friction", "solver_iterations", "erp", "cfm")
+    )
 
     @staticmethod
     def design_evaluator() -> Callable[..., DesignResult]:
