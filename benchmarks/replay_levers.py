@@ -9,6 +9,10 @@ the totals as JSON.
     python benchmarks/replay_levers.py /work/tmp/exhaustive9 --stride 6 --near 2.5 --csv replay.csv
     python benchmarks/replay_levers.py /work/tmp/exhaustive9 --time 20   # also the sweeps' CPU time
 
+``--variants``: also two costlier rules of sharing (what one environment finds joins every
+environment's first wave): its near misses as well as its successes (``share_seeds``), and one mask
+for all four (``share_mask``: a seed in any environment grows its neighbours in all).
+
 ``--time N``: the reduced model's adaptive sweep of the first N designs run for real with each
 lever (one thread: NUMBA_NUM_THREADS=1), its CPU seconds per design, after checking that its
 successes are the replay's.
@@ -25,12 +29,26 @@ import numpy as np
 import pandas as pd
 
 from morphlearn.physics.params import load_params
-from morphlearn.physics.refine import misses, simulated_mask
+from morphlearn.physics.refine import lattice, misses, replay_mask, simulated_mask
 
 BODY = "config/authors_body.yaml"
 
 
-def replay(path: Path, stride: int, near: float, contact: float, steps: int, dt: float) -> list[dict]:
+def shared_first_wave(seeds: np.ndarray, share: np.ndarray, stride: int) -> np.ndarray:
+    """The replay of a grid where a simulated cell of ``share`` (4, m, m) in one environment joins
+    every environment's first wave: the least fixed point, as :func:`replay_mask` reaches it."""
+    start = np.broadcast_to(lattice(seeds.shape[-1], stride), seeds.shape).copy()
+    while True:
+        mask = replay_mask(seeds, stride, start)
+        grown = start | (mask & share).any(axis=0, keepdims=True)
+        if np.array_equal(grown, start):
+            return mask
+        start = grown
+
+
+def replay(
+    path: Path, stride: int, near: float, contact: float, steps: int, dt: float, variants: bool = False
+) -> list[dict]:
     z = np.load(path)
     first, dist = z["first_time"], z["min_dist"]
     succ = ~np.isnan(first)
@@ -42,6 +60,25 @@ def replay(path: Path, stride: int, near: float, contact: float, steps: int, dt:
         sim = simulated_mask(succ, dist, contact, near, stride, across=across)
         r.update(design=int(z["design"]), lever=lever, step_share=float(cost[sim].sum() / cost.sum()))
         rows.append(r)
+    if variants:
+        seeds = succ | (dist <= near * contact)
+        masks = {"share_seeds": shared_first_wave(seeds, seeds, stride)}
+        masks["share_mask"] = np.broadcast_to(replay_mask(seeds.any(axis=0), stride), succ.shape)
+        for lever, sim in masks.items():
+            kept = succ & sim
+            rows.append(
+                {
+                    "design": int(z["design"]),
+                    "lever": lever,
+                    "generalists": int(succ.all(axis=0).sum()),
+                    "generalists_missed": int((succ.all(axis=0) & ~kept.all(axis=0)).sum()),
+                    "at_least_one": int(succ.any(axis=0).sum()),
+                    "at_least_one_missed": int((succ.any(axis=0) & ~kept.any(axis=0)).sum()),
+                    "successes_missed": int((succ & ~sim).sum()),
+                    "simulated_share": float(sim.mean()),
+                    "step_share": float(cost[sim].sum() / cost.sum()),
+                }
+            )
     return rows
 
 
@@ -80,11 +117,12 @@ def main() -> None:
     ap.add_argument("--stride", type=int, default=6)
     ap.add_argument("--near", type=float, default=2.5)
     ap.add_argument("--csv", type=Path)
+    ap.add_argument("--variants", action="store_true", help="also the costlier sharing rules")
     ap.add_argument("--time", type=int, default=0, help="also time the sweep on the first N designs")
     a = ap.parse_args()
     p = load_params(BODY)
     files = sorted(a.folder.glob("design*[0-9].npz"))
-    rows = [r for f in files for r in replay(f, a.stride, a.near, p.contact_distance, p.steps, p.dt)]
+    rows = [r for f in files for r in replay(f, a.stride, a.near, p.contact_distance, p.steps, p.dt, a.variants)]
     t = pd.DataFrame(rows)
     if a.csv:
         t.to_csv(a.csv, index=False)
