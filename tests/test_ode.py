@@ -230,8 +230,9 @@ def test_a_killed_design_resumes_inside_itself_to_the_same_bytes(tmp_path, monke
 
 
 def test_adaptive_stride_reaches_the_science_record() -> None:
-    """adaptive_stride (the coarse lattice's spacing) is a config key; stride 2, the default, is
-    recorded as before, so the results made before the key existed keep their digests."""
+    """adaptive_stride (the coarse lattice's spacing) is a config key and reaches the record (with
+    the grid across environments, the default; per environment it is recorded as before:
+    tests/test_levers.py)."""
     from morphlearn import config, configure, models
 
     base = config.load("config.yaml", ["config/smoke.yaml"])
@@ -240,7 +241,7 @@ def test_adaptive_stride_reaches_the_science_record() -> None:
         models.get("ode").science(configure.parse({**base, "ode": {**on, **extra}}))["adaptive_weights"]
         for extra in ({}, {"adaptive_stride": 4})
     ]
-    assert sci == [{"stride": 2, "near": 4.0}, {"stride": 4, "near": 4.0}]
+    assert sci == [{"stride": 2, "near": 4.0, "cross_env": True}, {"stride": 4, "near": 4.0, "cross_env": True}]
     with pytest.raises(config.ConfigError, match=r"ode\.adaptive_stride = 1 is invalid"):
         configure.parse({**base, "ode": {**on, "adaptive_stride": 1}})
 
