@@ -10,6 +10,7 @@ from __future__ import annotations
 import json
 import re
 from functools import cache
+from itertools import pairwise
 from pathlib import Path
 from typing import Any
 
@@ -25,6 +26,7 @@ PAPER_BEST_THEORY = 240  # (-0.5,-0.25),(0.5,0.25)
 THEORY_BEST_M_L = 160  # (-0.5,-0.375),(0.5,0.375)
 PAPER_BEST_ODE = 478  # (-0.5,0.125),(0.5,-0.375)
 BEST_OUR_BODY = 720  # (-0.5,0.5),(0.5,-0.5)
+TEXT_BEST_M_L = 684  # (-0.5,0.5),(0,-0.5): the second theory sweep's best by M_L
 
 #: Short names of the committed tables the documents quote.
 TABLES = {
@@ -47,7 +49,14 @@ TABLES = {
     "ra_survey": "results/reduced-agreement-survey/agreement.csv",
     "ra_screened": "results/reduced-agreement-screened/agreement.csv",
     "ra_random": "results/reduced-agreement-random/agreement.csv",
+    "theory_text": "results/theory-text/theory/metrics.csv",
+    "r_scan": "results/theory-text-checks/r_scan.csv",
+    "odeint": "results/theory-text-odeint/designs/summary.csv",
+    "text_cost": "results/theory-text/run_cost.csv",
 }
+
+#: The second theory sweep's merged store (every design's first-success times).
+TEXT_MERGED = "results/theory-text/theory/merged.zarr"
 
 
 @cache
@@ -211,6 +220,83 @@ def survey_check() -> dict[str, int]:
     per_env = [f"n_{a}" for a in (45, 135, 225, 315)]
     successes, generalists = int(both[per_env].to_numpy().sum()), int(both.generalists.sum())
     return {"designs": len(both), "successes": successes, "generalists": generalists}
+
+
+@cache
+def _text_store() -> tuple[np.ndarray, np.ndarray, Any]:
+    """(first-success times (design, env, w1, w2), weights, design grid) of the second sweep, read
+    whole: the per-chunk digests are the bundle test's to check (reading design by design to verify
+    them takes ~15 s here)."""
+    from morphlearn import store
+    from morphlearn.grid import DesignGrid
+
+    ds = store.open_merged(ROOT / TEXT_MERGED)
+    n = int(store.science_of(ds)["grid"]["positions_per_axis"])
+    return np.asarray(ds["first_time"].values), np.asarray(ds["w1"].values), DesignGrid(n)
+
+
+def text_science(dotted: str) -> Any:
+    """A setting the second sweep ran with, from its store's record: ``text_science("theory.r")``."""
+    from morphlearn import store
+
+    node: Any = store.science_of(store.open_merged(ROOT / TEXT_MERGED))
+    for part in dotted.split("."):
+        node = node[part]
+    return node
+
+
+def text_horizons() -> tuple[float, ...]:
+    """The horizons the reproduction table's second-sweep rows check their verdicts at."""
+    from morphlearn.figures.reproduction.stages import text_sweep as stage
+
+    return stage.HORIZONS
+
+
+@cache
+def text_span(key: str) -> tuple[float, float]:
+    """The one span of :func:`text_horizons` over which the second sweep gives the paper's value of
+    claim ``key`` (as the table's note computes it); (-1, -1) when it holds at none or in several."""
+    from morphlearn.figures.reproduction.claims import CLAIMS
+    from morphlearn.figures.reproduction.stages import text_sweep as stage
+    from morphlearn.theory import text_sweep
+
+    ft, _, g = _text_store()
+    claim = {c.key: c for c in CLAIMS}[key]
+    r, horizon = float(text_science("theory.r")), float(text_science("theory.horizon"))
+    held = [
+        h
+        for h in stage.HORIZONS
+        if h <= horizon and stage._held(claim, stage._value(key, text_sweep.text_values(ft, g, h, r), g)[1])
+    ]
+    step = stage.HORIZONS[1] - stage.HORIZONS[0]
+    if not held or any(abs(b - a - step) > 1e-9 for a, b in pairwise(held)):
+        return (-1.0, -1.0)
+    return (held[0], held[-1])
+
+
+@cache
+def text_persistence() -> tuple[int, int, list[float]]:
+    """The second sweep's canonical generalists integrated to its horizon, as the table's row does:
+    (staying within the default near distance after success, generalists, their largest distances
+    after success, sorted)."""
+    from morphlearn.figures import data as fd
+    from morphlearn.figures.reproduction.stages import text_sweep as stage
+
+    ft, w, g = _text_store()
+    s = fd.TheorySettings(
+        r=float(text_science("theory.r")),
+        horizon=float(text_science("theory.horizon")),
+        radius=float(text_science("theory.success_radius")),
+    )
+    return stage.persistence(ft, w, g, s, float(default("figures.near_distance")))
+
+
+def scan(r: float, horizon: float = 1000.0) -> pd.Series:
+    """The row of results/theory-text-checks/r_scan.csv at light distance ``r`` and ``horizon`` (at
+    r = 4 the row over all designs)."""
+    t = csv(TABLES["r_scan"])
+    m = t[np.isclose(t.r, r) & np.isclose(t.horizon, horizon)]
+    return m.sort_values("designs_run").iloc[-1]
 
 
 def namespace() -> dict[str, Any]:
