@@ -22,23 +22,16 @@ from scipy.integrate import odeint
 
 from morphlearn import grid as gridmod
 from morphlearn.theory import text_sweep
+from morphlearn.theory.reference import velocities
 
 #: odeint's step budget per output interval; the model's singular designs exhaust it (a failure).
 MXSTEP = 5000
 
 
 def _rhs(l1: tuple[float, float], l2: tuple[float, float], w1: float, w2: float):
-    l1x, l1y = l1
-    l2x, l2y = l2
-
     def f(z: np.ndarray, _t: float) -> list[float]:
         x, y, a = z[0], z[1], z[2]
-        c, s = math.cos(a), math.sin(a)
-        d1 = (x + c * l1x - s * l1y) ** 2 + (y + s * l1x + c * l1y) ** 2
-        d2 = (x + c * l2x - s * l2y) ** 2 + (y + s * l2x + c * l2y) ** 2
-        a1, a2 = w1 / d1, w2 / d2
-        v = 0.5 * (a1 + a2)
-        return [v * c, v * s, a1 - a2]
+        return velocities(x, y, math.cos(a), math.sin(a), l1, l2, w1, w2)
 
     return f
 

@@ -29,6 +29,16 @@ class ReferenceTrajectory:
     path: np.ndarray  # (len(t), 3): x, y, alpha (light at the origin)
 
 
+def velocities(x: float, y: float, c: float, s: float, l1, l2, w1: float, w2: float) -> list[float]:
+    """The model's right-hand side (Eq. 1) at position (x, y), heading cosine ``c`` and sine
+    ``s`` (the caller's own cos/sin, so each integrator keeps its bits): (dx/dt, dy/dt, da/dt)."""
+    d1 = (x + c * l1[0] - s * l1[1]) ** 2 + (y + s * l1[0] + c * l1[1]) ** 2
+    d2 = (x + c * l2[0] - s * l2[1]) ** 2 + (y + s * l2[0] + c * l2[1]) ** 2
+    a1, a2 = w1 / d1, w2 / d2
+    v = 0.5 * (a1 + a2)
+    return [v * c, v * s, a1 - a2]
+
+
 def _rhs(l1: np.ndarray, l2: np.ndarray, w1: float, w2: float, max_nfev: int):
     calls = [0]
 
@@ -37,12 +47,7 @@ def _rhs(l1: np.ndarray, l2: np.ndarray, w1: float, w2: float, max_nfev: int):
         if calls[0] > max_nfev:
             raise _EvaluationCapError
         x, y, a = z
-        c, s = np.cos(a), np.sin(a)
-        d1 = (x + c * l1[0] - s * l1[1]) ** 2 + (y + s * l1[0] + c * l1[1]) ** 2
-        d2 = (x + c * l2[0] - s * l2[1]) ** 2 + (y + s * l2[0] + c * l2[1]) ** 2
-        a1, a2 = w1 / d1, w2 / d2
-        v = 0.5 * (a1 + a2)
-        return [v * c, v * s, a1 - a2]
+        return velocities(x, y, np.cos(a), np.sin(a), l1, l2, w1, w2)
 
     return f
 
