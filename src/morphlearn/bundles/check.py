@@ -99,7 +99,7 @@ def check(out_dir: str | Path, *, rows: bool = True, notes: list[str] | None = N
         if not shape:  # what bundle.json records is read only once every field has its type
             problems += manifest_problems(out_dir, manifest, notes)
             problems += reads_problems(out_dir, listed)
-            problems += summary_problems(out_dir, manifest, listed, notes)
+            problems += summary_problems(out_dir, manifest, listed)
     return problems
 
 
@@ -557,9 +557,7 @@ def reads_problems(out_dir: Path, listed: dict[str, str]) -> list[str]:
     return out
 
 
-def summary_problems(
-    out_dir: Path, manifest: dict[str, Any], listed: dict[str, str], notes: list[str] | None = None
-) -> list[str]:
+def summary_problems(out_dir: Path, manifest: dict[str, Any], listed: dict[str, str]) -> list[str]:
     """``summary.json`` and ``summary.md`` say what the bundle's metrics tables give (the summary
     rule's :func:`morphlearn.bundles.summaries.summarise` recomputed, at the configs' analysis.top,
     the stores' grid and weights): a forged ``canonical: null`` or ``top_M_L: []`` passed."""
@@ -619,38 +617,9 @@ def summary_problems(
             text = bounded.read_bytes(md).decode("utf-8")
         except (OSError, ValueError, UnicodeDecodeError):
             text = None
-        expected = summary_markdown(want)
-        if text != expected:
-            if text is not None and _only_grid_line_differs(text, expected, want):
-                # the grid line is written from summary.json's grid and controller counts, checked
-                # above; a summary rule before the per-model weights wrote one grid for all models
-                # (results/survey: "41 weights per synapse" beside ODE's 11): stale wording, named
-                if notes is not None:
-                    notes.append(
-                        f"{md}: its grid line is an older summary rule's ({_grid_line(text)!r}; now "
-                        f"{_grid_line(expected)!r}); every other line is what the metrics tables give"
-                    )
-            else:
-                out.append(f"{md}: is not what the bundle's metrics tables give (the summary rule's Markdown)")
+        if text != summary_markdown(want):
+            out.append(f"{md}: is not what the bundle's metrics tables give (the summary rule's Markdown)")
     return out
-
-
-def _grid_line(text: str) -> str:
-    return next((line for line in text.splitlines() if line.startswith("Grid: ")), "")
-
-
-def _only_grid_line_differs(text: str, expected: str, summary: dict[str, Any]) -> bool:
-    """The two Markdown texts equal but for their ``Grid:`` line, and that line the one grid for
-    every model an older summary rule wrote from this summary's grid (any other line: forged)."""
-    a, b = text.splitlines(), expected.splitlines()
-    if len(a) != len(b):
-        return False
-    diff = [i for i, (x, y) in enumerate(zip(a, b, strict=True)) if x != y]
-    legacy = (
-        f"Grid: {summary.get('positions_per_axis')} positions per axis per sensor, "
-        f"{summary.get('weights')} weights per synapse."
-    )
-    return len(diff) == 1 and a[diff[0]] == legacy and b[diff[0]].startswith("Grid: ")
 
 
 # -- what bundle.json says about how the bundle was made (issue 57: a forged commit, command or
