@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import pandas as pd
 
-from morphlearn.bundles import summaries
+from morphlearn.analysis import summary
 from morphlearn.figures.reproduction.claim_values import _persistence, best_label
 from morphlearn.figures.reproduction.text import frac
 
@@ -32,7 +32,6 @@ def test_the_summary_names_a_models_own_weight_grid() -> None:
     """A reduced-model run at 121 x 121 beside the default 41 x 41 theory grid once said "41 weights
     per synapse" for both."""
     s = {"positions_per_axis": 5, "weights": 41}
-    line = summaries.grid_line({**s, "reduced": {"controllers": 121**2}})
+    line = summary.grid_line(s, {"reduced": 121})
     assert "reduced 121" in line and "41 weights per synapse" not in line
-    same = summaries.grid_line({**s, "theory": {"controllers": 41**2}})
-    assert same == "Grid: 5 positions per axis per sensor, 41 weights per synapse."
+    assert summary.grid_line(s, {"theory": 41}) == "Grid: 5 positions per axis per sensor, 41 weights per synapse."

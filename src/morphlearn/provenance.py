@@ -75,22 +75,6 @@ def in_history(commit: str, cwd: str | Path | None = None) -> bool | None:
         return None
 
 
-def is_ancestor(older: str, newer: str, cwd: str | Path | None = None) -> bool | None:
-    """Whether commit ``older`` is ``newer`` or an ancestor of it (a bundle's commit must descend
-    from the commits that simulated its designs); None where git cannot say (no repository, a
-    commit it does not hold)."""
-    where = Path(cwd) if cwd else Path(__file__).resolve().parent
-    if not all(re.fullmatch(r"[0-9a-f]{40}", c) for c in (older, newer)):
-        return None
-    try:
-        rc = subprocess.run(
-            ["git", "merge-base", "--is-ancestor", older, newer], cwd=where, capture_output=True, timeout=10
-        ).returncode
-    except (OSError, subprocess.SubprocessError):
-        return None
-    return {0: True, 1: False}.get(rc)  # 128: a commit git does not hold
-
-
 def is_shallow(cwd: str | Path | None = None) -> bool:
     """Whether the project's repository is a shallow clone (its history cut: a commit it lacks
     may still be an ancestor of HEAD)."""

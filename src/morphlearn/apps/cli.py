@@ -554,8 +554,7 @@ def build_parser() -> argparse.ArgumentParser:
         help="also re-simulate these designs and compare them exactly: [MODEL:]WHICH, WHICH one of "
         "canonical, best_M_L, best_M_CF, a design index (held in the bundle or not) or sample:K (K "
         "random rows); MODEL a registered model (default theory: a few seconds a design at paper "
-        "resolution; e.g. empirical:12, a pybullet design of the 11 x 11 survey: about 50 CPU-s); or screen: "
-        "the screen rows a bundle's best-design verdicts read (results/paper: 24 reduced-model rows, under a minute)",
+        "resolution; e.g. empirical:12, a pybullet design of the 11 x 11 survey: about 50 CPU-s)",
     )
     b.add_argument(
         "--seed",

@@ -3,7 +3,6 @@
 
 from __future__ import annotations
 
-import functools
 import json
 import os
 import re
@@ -62,8 +61,7 @@ def check(out_dir: str | Path, *, rows: bool = True, notes: list[str] | None = N
     if not isinstance(listed, dict) or not all(isinstance(k, str) and isinstance(v, str) for k, v in listed.items()):
         return [f"{mpath}: wrong shape: an object whose 'files' maps each path in the bundle to its SHA-256"]
     root = out_dir.resolve()
-    shape = manifest_shape(manifest)
-    problems = [f"{mpath}: {p}" for p in shape]
+    problems = []
     for rel, digest in listed.items():
         p = out_dir / rel
         odd = odd_name(rel)
@@ -76,30 +74,14 @@ def check(out_dir: str | Path, *, rows: bool = True, notes: list[str] | None = N
         elif provenance.sha256_file(p) != digest:
             problems.append(f"{p}: checksum differs from {MANIFEST} (changed or damaged)")
     rendered = rendered_files(listed)
-    byproducts = []
     for p in bundle_files(out_dir):
         rel = p.relative_to(out_dir).as_posix()
-        if p.is_symlink() or rel in listed:  # links: below, with their target
-            continue
-        if rel in rendered:
-            byproducts.append(rel)
-        else:
+        if rel not in listed and rel not in rendered and not p.is_symlink():  # links: below, with their target
             problems.append(f"{p}: not listed in {MANIFEST}")
-    if byproducts and notes is not None:
-        # what a render in place writes beside the figures (notebooks' HTML, logs): allowed there,
-        # but no digest vouches for them, so they are named (a forged figures/fig6.html passed
-        # unnamed); git ignores them, so a clone has none
-        notes.append(
-            f"{len(byproducts)} file(s) not listed in {MANIFEST}, at the names a render writes beside its figures "
-            f"(first {shown(byproducts[0])}): nothing vouches for them (delete them, or re-render)"
-        )
     problems += special_files(out_dir, listed)
     if rows:
         problems += check_rows(out_dir, listed)
-        if not shape:  # what bundle.json records is read only once every field has its type
-            problems += manifest_problems(out_dir, manifest, notes)
-            problems += reads_problems(out_dir, listed)
-            problems += summary_problems(out_dir, manifest, listed)
+        problems += manifest_problems(out_dir, manifest, notes)
     return problems
 
 
@@ -150,89 +132,7 @@ def read_manifest(mpath: Path) -> dict[str, Any]:
     files = man.get("files")
     if not isinstance(files, dict) or not all(isinstance(k, str) and isinstance(v, str) for k, v in files.items()):
         raise BundleError(f"{mpath}: 'files' = {json.dumps(files)[:40]} is invalid; allowed: {MANIFEST_SHAPE}")
-    shape = manifest_shape(man)
-    if shape:  # a render reads made_by.configs and the rest: each field its type first
-        raise BundleError(f"{mpath}: {shape[0]}")
     return man
-
-
-def _kind(v: Any) -> str:
-    """A JSON value's type, as a message names it."""
-    for t, name in ((bool, "true/false"), (str, "a string"), (int, "an integer"), (float, "a number")):
-        if isinstance(v, t):
-            return name
-    return {dict: "an object", list: "a list", type(None): "null"}.get(type(v), type(v).__name__)
-
-
-def _is_int(v: Any) -> bool:
-    return isinstance(v, int) and not isinstance(v, bool)
-
-
-def _counts(v: Any) -> bool:
-    """A ``simulated_by`` record: an object of kind (git_commits, backends, ...) -> name -> count."""
-    return isinstance(v, dict) and all(
-        isinstance(k, str) and isinstance(c, dict) and all(isinstance(n, str) and _is_int(x) for n, x in c.items())
-        for k, c in v.items()
-    )
-
-
-_STR = (lambda v: isinstance(v, str), "a string")
-_STRS = (lambda v: isinstance(v, list) and all(isinstance(x, str) for x in v), "a list of strings")
-_OBJ = (lambda v: isinstance(v, dict), "an object")
-#: Each field bundle.json may record, and what it must be (a list, an object or a string
-#: where another type belongs ended in TypeError tracebacks, or a render ran ``--configfile c o n f``).
-FIELDS: dict[str, tuple[Any, str]] = {
-    "made_by": _OBJ,
-    "made_by.git_commit": _STR,
-    "made_by.configs": _STRS,
-    "made_by.command": _STR,
-    "made_by.results_dir": _STR,
-    "made_by.version": _STR,
-    "made_by.libraries": (
-        lambda v: isinstance(v, dict) and all(isinstance(x, str) for x in v.values()),
-        "an object of library -> version",
-    ),
-    "rendered_by": _OBJ,
-    "rendered_by.git_commit": _STR,
-    "rendered_by.command": _STR,
-    "rendered_by.files": _STRS,
-    "subsets": _OBJ,
-    "subsets.*": _OBJ,
-    "subsets.*.designs": (lambda v: isinstance(v, list) and all(map(_is_int, v)), "a list of design indices"),
-    "subsets.*.of": (lambda v: _is_int(v) and v >= 0, "an integer >= 0 (the table's rows)"),
-    "subsets.*.simulated_by": (_counts, "an object of kind -> name -> count"),
-    "simulated_by": _OBJ,
-    "simulated_by.*": (_counts, "an object of kind -> name -> count"),
-    "scenarios": (lambda v: isinstance(v, list), "a list"),
-}
-
-
-def manifest_shape(man: dict[str, Any]) -> list[str]:
-    """Every field of bundle.json that is not of its type (:data:`FIELDS`), one line each naming
-    the field, its type and what is allowed; empty when every field present has its type."""
-    out = []
-
-    def want(where: str, key: str, v: Any) -> None:
-        ok, allowed = FIELDS[key]
-        if not ok(v):
-            out.append(f"{where} is {_kind(v)} ({shown(json.dumps(v, default=str)[:60], 70)}); allowed: {allowed}")
-
-    for top in ("made_by", "rendered_by", "subsets", "simulated_by", "scenarios"):
-        if top not in man:
-            continue
-        want(top, top, man[top])
-        if not isinstance(man[top], dict) or top == "scenarios":
-            continue
-        for k, v in man[top].items():
-            if top in ("subsets", "simulated_by"):
-                want(f"{top}.{k}", f"{top}.*", v)
-                if top == "subsets" and isinstance(v, dict):
-                    for f in ("designs", "of", "simulated_by"):
-                        if f in v:
-                            want(f"{top}.{k}.{f}", f"subsets.*.{f}", v[f])
-            elif f"{top}.{k}" in FIELDS:
-                want(f"{top}.{k}", f"{top}.{k}", v)
-    return out
 
 
 def inside(out_dir: Path, rel: str) -> bool:
@@ -379,23 +279,13 @@ def _store_disagrees(metrics_csv: Path, table: pd.DataFrame, ds: Any) -> list[st
     cols = list(ARRAY_COLUMNS)
     rows = table.drop_duplicates("design").set_index("design")
     usable = th is not None and all(pd.api.types.is_integer_dtype(rows[c]) for c in cols)
-    bad, missing, unreadable, unmirrored = [], [], [], []
-    held = [int(x) for x in ds["design"].values]
-    mirrors = _mirror_pairs(ds, held)
-    waiting: dict[int, dict[str, np.ndarray]] = {}  # arrays of a design whose mirror image comes later
-    for i, design in enumerate(held):
+    bad, missing, unreadable = [], [], []
+    for i, design in enumerate(int(x) for x in ds["design"].values):
         try:
             one = store.read_design(ds, i)  # store.verify_merged's check: names a missing chunk file
         except store.IntegrityError as e:
             unreadable.append(str(e))
             continue
-        if design in mirrors:
-            partner = mirrors[design]
-            if partner in waiting:
-                if not _same_arrays(store.mirror_arrays(waiting.pop(partner)), one):
-                    unmirrored.append(f"{partner} and {design}")
-            else:
-                waiting[design] = one
         if design not in rows.index:
             missing.append(design)
             continue
@@ -412,34 +302,7 @@ def _store_disagrees(metrics_csv: Path, table: pd.DataFrame, ds: Any) -> list[st
         out.append(f"design {_few(missing)}: held in the merged store but has no row")
     if bad:
         out.append(f"design {_few(bad)}: its row's counts differ from the merged store's arrays")
-    if unmirrored:
-        out.append(
-            f"designs {_few(unmirrored)}: not exact mirror images of each other, which the store's mirror "
-            "derivation (science: mirror_derive) makes them"
-        )
     return out
-
-
-def _mirror_pairs(ds: Any, held: list[int]) -> dict[int, int]:
-    """Design -> its mirror image, for every pair the store holds both of and derives one from the
-    other (its science's ``mirror_derive``, the theory's ``mirror_symmetry``): their arrays must be
-    exact mirrors (:func:`morphlearn.store.mirror_arrays`). Empty where nothing is derived."""
-    try:
-        sci = store.science_of(ds)
-        if sci.get("mirror_derive") is not True and sci.get("mirror_symmetry") is not True:
-            return {}
-        grid = DesignGrid(models.get(str(sci["model"])).positions_of(sci))
-    except (ValueError, KeyError, TypeError, AttributeError):
-        return {}
-    have = set(held)
-    return {d: int(grid.mirror(d)) for d in held if int(grid.mirror(d)) in have and int(grid.mirror(d)) != d}
-
-
-def _same_arrays(a: dict[str, np.ndarray], b: dict[str, np.ndarray]) -> bool:
-    """Bit for bit, NaN equal to NaN (a cell never reached is NaN in both)."""
-    return all(
-        a[v].shape == b[v].shape and np.array_equal(a[v], b[v], equal_nan=a[v].dtype.kind == "f") for v in store.VARS
-    )
 
 
 def _few(designs: list[int]) -> str:
@@ -508,120 +371,6 @@ def _controllers(metrics_csv: Path) -> int | None:
         return None
 
 
-#: The record of a reproduction table, where it names the tables it read from other bundles.
-READ_RECORD = "reproduction.provenance.json"
-#: What a table read from another bundle is named by (from the project root): results/NAME/...
-READ_NAME = re.compile(r"results/[\w.-]+/[\w./-]+")
-
-
-def read_path(out_dir: Path, rel: str) -> Path | None:
-    """Where a table another bundle holds, named from the project root (``results/NAME/...``), is
-    for the bundle ``out_dir``: in the project that holds ``out_dir`` (its ``results/``' parent:
-    a copy's own neighbours), else in this code's project; None where neither has it."""
-    for root in (out_dir.resolve().parents[1], project()):
-        if (root / rel).is_file():
-            return root / rel
-    return None
-
-
-def reads_problems(out_dir: Path, listed: dict[str, str]) -> list[str]:
-    """Every table its reproduction record says it read from another bundle (``bundles_read``:
-    the screen and its refinement, read where they are) is unchanged on disk, each named with the
-    bundle it is in (a re-sealed forgery of results/reduced-paper flipped results/paper's screen
-    rows through render and rerender-bundle, and check-bundle passed)."""
-    if READ_RECORD not in listed or not (out_dir / READ_RECORD).is_file():
-        return []
-    where = out_dir / READ_RECORD
-    try:
-        rec = bounded.json_file(where)
-    except (OSError, ValueError) as e:
-        return [f"{where}: unreadable ({e})"]
-    read = rec.get("bundles_read", {}) if isinstance(rec, dict) else None
-    allowed = "an object of results/NAME/... -> SHA-256"
-    if not isinstance(read, dict) or not all(isinstance(k, str) and isinstance(v, str) for k, v in read.items()):
-        return [f"{where}: bundles_read is {_kind(read)}; allowed: {allowed}"]
-    out = []
-    for rel, digest in read.items():
-        if not READ_NAME.fullmatch(rel) or ".." in PurePosixPath(rel).parts:
-            out.append(f"{where}: bundles_read names {shown(rel)}; allowed: {allowed} (not read)")
-            continue
-        other = "/".join(rel.split("/")[:2])
-        p = read_path(out_dir, rel)
-        if p is None:
-            out.append(f"{where}: it read {rel} (bundles_read), which is not there: the bundle {other} is missing")
-        elif provenance.sha256_file(p) != digest:
-            out.append(
-                f"{where}: the bundle {other} it read changed since: {rel} is not the table it read (bundles_read "
-                "digest); its results rest on data that is no longer there (restore that bundle, or re-make this one)"
-            )
-    return out
-
-
-def summary_problems(out_dir: Path, manifest: dict[str, Any], listed: dict[str, str]) -> list[str]:
-    """``summary.json`` and ``summary.md`` say what the bundle's metrics tables give (the summary
-    rule's :func:`morphlearn.bundles.summaries.summarise` recomputed, at the configs' analysis.top,
-    the stores' grid and weights): a forged ``canonical: null`` or ``top_M_L: []`` passed."""
-    from morphlearn.bundles.summaries import summarise, summary_markdown
-
-    if "summary.json" not in listed or not (out_dir / "summary.json").is_file():
-        return []
-    where = out_dir / "summary.json"
-    try:
-        have = bounded.json_file(where)
-    except (OSError, ValueError) as e:
-        return [f"{where}: unreadable ({e})"]
-    if not isinstance(have, dict):
-        return [f"{where}: is {_kind(have)}, not an object of model -> summary"]
-    by = manifest["made_by"]
-    commit = by.get("git_commit")
-    cfg = _configured(by["configs"], commit) if by.get("configs") else None
-    props = cfgmod.schema().get("properties", {})
-
-    def setting(section: str, key: str) -> Any:  # the configs' value, else the schema's default
-        return _dict(_dict(cfg).get(section)).get(
-            key, props.get(section, {}).get("properties", {}).get(key, {}).get("default")
-        )
-
-    top = setting("analysis", "top")
-    held = [m for m in models.MODELS if f"{m}/metrics.csv" in listed and (out_dir / m / "merged.zarr").is_dir()]
-    # the grid the run was configured with (a model may run on fewer weights than the grid's);
-    # without configs, what the summary says of it stands (nothing to check it against)
-    want: dict[str, Any] = {
-        k: setting("grid", k) if cfg is not None else have.get(k) for k in ("weights", "positions_per_axis")
-    }
-    try:
-        for m in held:
-            ds = store.open_merged(out_dir / m / "merged.zarr")
-            one = summarise(pd.read_csv(out_dir / m / "metrics.csv"), int(top))
-            one["controllers"] = int(ds.sizes["w1"] * ds.sizes["w2"])
-            want[m] = one
-        want = json.loads(json.dumps(want, sort_keys=True))  # as the file holds it (tuples: lists)
-    except (ValueError, KeyError, TypeError, AttributeError, OSError):  # the tables' own checks name it
-        return []
-    if not held:
-        return []
-    out = []
-    if have != want:
-        diff = sorted(k for k in {*have, *want} if have.get(k) != want.get(k))
-        first = diff[0]
-        inner = (
-            sorted(k for k in {*have[first], *want[first]} if have[first].get(k) != want[first].get(k))
-            if isinstance(have.get(first), dict) and isinstance(want.get(first), dict)
-            else []
-        )
-        field = f"{first}.{inner[0]}" if inner else first
-        out.append(f"{where}: {field} is not what the bundle's metrics tables give (summary recomputed at top {top})")
-    md = out_dir / "summary.md"
-    if "summary.md" in listed and md.is_file():
-        try:
-            text = bounded.read_bytes(md).decode("utf-8")
-        except (OSError, ValueError, UnicodeDecodeError):
-            text = None
-        if text != summary_markdown(want):
-            out.append(f"{md}: is not what the bundle's metrics tables give (the summary rule's Markdown)")
-    return out
-
-
 # -- what bundle.json says about how the bundle was made (issue 57: a forged commit, command or
 # design subset passed) ---------------------------------------------------------------------------
 
@@ -647,11 +396,8 @@ def _commits(manifest: dict[str, Any]) -> dict[Any, str]:
     named: dict[Any, str] = {}
     for key in ("made_by", "rendered_by"):
         if isinstance(manifest.get(key), dict) and "git_commit" in manifest[key]:
-            c = manifest[key]["git_commit"]
-            named.setdefault(c if isinstance(c, str) else json.dumps(c, default=str), f"{key}.git_commit")
-    sims = [
-        (f"subsets.{m}.simulated_by", _dict(s).get("simulated_by")) for m, s in _dict(manifest.get("subsets")).items()
-    ]
+            named.setdefault(manifest[key]["git_commit"], f"{key}.git_commit")
+    sims = [(f"subsets.{m}.simulated_by", s.get("simulated_by")) for m, s in _dict(manifest.get("subsets")).items()]
     sims += [(f"simulated_by.{n}", s) for n, s in _dict(manifest.get("simulated_by")).items()]
     for where, by in sims:
         for part in ("git_commits", "design_commits"):
@@ -686,55 +432,7 @@ def commit_problems(manifest: dict[str, Any], notes: list[str]) -> list[str]:
             f"cannot tell whether {len(unsure)} commit(s) it names (first {unsure[0][:12]}) are of this history: "
             "no git repository here, or a shallow clone (git fetch --unshallow, then check again)"
         )
-    return out if out else out + order_problems(manifest)
-
-
-def order_problems(manifest: dict[str, Any]) -> list[str]:
-    """The commits bundle.json names in the order that made it: the commit that made it descends
-    from every commit that simulated its designs (a bundle is made after its designs), and the one
-    that re-rendered it from the one that made it; its own config files exist at its commit. Where
-    git cannot tell (a commit it lacks) nothing is said here (:func:`commit_problems` says it).
-    The root commit recorded as made_by.git_commit passed with a note that the commit was not in
-    the clone."""
-    by = manifest["made_by"]
-    made = by.get("git_commit")
-    if not isinstance(made, str):
-        return []
-    out = []
-    for where, c in _simulating(manifest):
-        if provenance.is_ancestor(c, made, cwd=project()) is False:
-            out.append(
-                f"made_by.git_commit {made[:12]} is older than commit {c[:12]} that simulated its designs "
-                f"({where}): not the commit that made it"
-            )
-            break
-    rendered = _dict(manifest.get("rendered_by")).get("git_commit")
-    if isinstance(rendered, str) and provenance.is_ancestor(made, rendered, cwd=project()) is False:
-        out.append(f"rendered_by.git_commit {rendered[:12]} is older than made_by.git_commit {made[:12]}")
-    if provenance.in_history(made, cwd=project()):
-        own = [c for c in by.get("configs") or [] if c == "config.yaml" or c.startswith("config/")]
-        absent = [c for c in own if provenance.file_at(made, c, cwd=project()) is None]
-        if absent:
-            out.append(
-                f"made_by.git_commit {made[:12]} does not hold its config file {absent[0]} (a commit older than "
-                "its config): not the commit that made it"
-            )
     return out
-
-
-def _simulating(manifest: dict[str, Any]) -> list[tuple[str, str]]:
-    """(where, commit) for every commit bundle.json says simulated its designs."""
-    sims = [
-        (f"subsets.{m}.simulated_by", _dict(s).get("simulated_by")) for m, s in _dict(manifest.get("subsets")).items()
-    ]
-    sims += [(f"simulated_by.{n}", s) for n, s in _dict(manifest.get("simulated_by")).items()]
-    return [
-        (f"{where}.{part}", c)
-        for where, by in sims
-        for part in ("git_commits", "design_commits")
-        for c in _dict(_dict(by).get(part))
-        if isinstance(c, str)
-    ]
 
 
 def _config_text(name: str, commit: str | None) -> tuple[str | None, bool]:
@@ -743,18 +441,11 @@ def _config_text(name: str, commit: str | None) -> tuple[str | None, bool]:
     text = provenance.file_at(commit, name, cwd=project()) if commit else None
     if text is not None:
         return text, True
-    if commit and _in_history(commit, str(project())):
-        return None, False  # its commit is here and lacks the file: no working-tree stand-in
     p = project() / name
     try:
         return (bounded.read_bytes(p).decode("utf-8") if p.is_file() else None), False
     except (ValueError, OSError, UnicodeDecodeError):
         return None, False
-
-
-@functools.lru_cache(maxsize=256)
-def _in_history(commit: str, cwd: str) -> bool | None:
-    return provenance.in_history(commit, cwd=cwd)
 
 
 def command_problems(manifest: dict[str, Any], notes: list[str]) -> list[str]:

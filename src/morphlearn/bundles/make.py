@@ -183,19 +183,16 @@ def check_target(bundle_dir: str | Path, made_by: dict[str, Any]) -> None:
             by = None
         if not isinstance(by, dict):
             why = f"holds files and no readable {MANIFEST}: the bundle rule would replace what it did not make"
-        elif _names(by.get("configs")) != sorted(made_by["configs"]) or by.get("results_dir") != made_by["results_dir"]:
+        elif (
+            sorted(by.get("configs") or []) != sorted(made_by["configs"])
+            or by.get("results_dir") != made_by["results_dir"]
+        ):
             why = (
-                f"holds a bundle made by configs {_names(by.get('configs'))} from results_dir "
+                f"holds a bundle made by configs {sorted(by.get('configs') or [])} from results_dir "
                 f"{by.get('results_dir')!r}, which this run's config would overwrite"
             )
     if why:
         raise BundleError(f"bundle_dir = {str(bundle_dir)!r} {why}; {allowed}")
-
-
-def _names(configs: Any) -> list[str]:
-    """A recorded ``made_by.configs`` as sorted names, whatever its type (a string, numbers: a
-    manifest not of the bundle rule's writing compares unequal instead of raising TypeError)."""
-    return sorted(map(str, configs)) if isinstance(configs, list) else [] if configs is None else [str(configs)]
 
 
 def _models(run_dir: Path) -> list[str]:

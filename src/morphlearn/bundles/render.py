@@ -204,19 +204,6 @@ def rendered_copy(bundle_dir: str | Path, root: str | Path, cores: int = 2) -> I
             f"{bundle_dir}: not re-rendered: {bundle.MANIFEST} lists {bundle_check.shown(outside[0])}, a path "
             "outside the bundle or a name no file can have (not read)"
         )
-    odd = [c for c in manifest.get("made_by", {}).get("configs", []) if not bundle_check.CONFIG_NAME.fullmatch(c)]
-    if odd:  # the render passes them to Snakemake's --configfile
-        raise bundle.BundleError(
-            f"{bundle_dir}: not re-rendered: made_by.configs names {bundle_check.shown(odd[0])}; allowed: relative "
-            "YAML file names (config.yaml, config/NAME.yaml)"
-        )
-    # a table read from another bundle that changed since would re-render different verdicts,
-    # which render would blame on the figure code and rerender-bundle re-seal: refused first
-    reads = bundle_check.reads_problems(path, manifest["files"])
-    if reads:
-        raise bundle.BundleError(
-            f"{bundle_dir}: not re-rendered: an input bundle changed (its data, not the figure code): {reads[0]}"
-        )
     remove_stale(path)
     # the pid in the name: the next start knows whether this copy's render is still running
     work = Path(tempfile.mkdtemp(prefix=f"{WORK_PREFIX}{path.name}-{os.getpid()}-", dir=path.parent))

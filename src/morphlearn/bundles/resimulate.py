@@ -12,8 +12,8 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from morphlearn import bounded, metrics, models, provenance, store
 from morphlearn import grid as gridmod
+from morphlearn import metrics, models, provenance, store
 from morphlearn.bundles.check import meaning_problems
 from morphlearn.bundles.make import BundleError
 
@@ -30,8 +30,6 @@ def parse_which(which: str, flag: str = "re-simulate") -> tuple[str, str]:
     model), WHICH one of canonical, best_M_L, best_M_CF, a design index or sample:K. Raises
     BundleError naming ``flag``, the value and what is allowed (the range of an index or K is
     checked with the table)."""
-    if which == SCREEN:
-        return SCREEN, SCREEN
     head, _, rest = which.partition(":")
     model, spec = (head, rest) if head in models.MODELS else (models.REFERENCE, which)
     k = spec.removeprefix("sample:")
@@ -40,14 +38,8 @@ def parse_which(which: str, flag: str = "re-simulate") -> tuple[str, str]:
         return model, spec
     raise BundleError(
         f"{flag} {which!r}: allowed: [MODEL:]WHICH, MODEL one of {', '.join(models.MODELS)} "
-        f"(default {models.REFERENCE}), WHICH one of {', '.join(_NAMED)}, a design index >= 0 or sample:K; "
-        f"or {SCREEN} (the rows a screen's verdicts read)"
+        f"(default {models.REFERENCE}), WHICH one of {', '.join(_NAMED)}, a design index >= 0 or sample:K"
     )
-
-
-#: ``--resimulate screen``: the screen rows a bundle's best-design verdicts read (config
-#: ``screen_from``), re-simulated in the screen's bundle.
-SCREEN = "screen"
 
 
 #: Largest seed of a ``sample:K`` draw (drawn afresh each run unless given).
@@ -88,70 +80,9 @@ def resimulate(
         raise BundleError(f"--seed = {seed}; allowed: an integer 0 to {MAX_SEED}")
     rng = np.random.default_rng(seed)
     problems = []
-    say = say or (lambda _: None)
     for model, specs in by_model.items():
-        if model == SCREEN:
-            problems += _resimulate_screen(out_dir, rng, seed, say)
-        else:
-            problems += _resimulate_model(out_dir, model, specs, rng, seed, say)
+        problems += _resimulate_model(out_dir, model, specs, rng, seed, say or (lambda _: None))
     return problems
-
-
-def screen_designs(screen: pd.DataFrame, refined: pd.DataFrame) -> list[int]:
-    """The screen rows the best-design verdicts read (the reproduction table's screen stage):
-    every design the refinement holds (their screen-vs-engine differences give the margin) and,
-    by each metric, the screen's best design outside the refinement and every one whose value the
-    margin brings to the engine's best (the designs left open). A row forged upwards becomes one
-    of these; a row forged down, out of them, only a full re-simulation or sample:K finds."""
-    out = {int(d) for d in refined.design}
-    for by, spec in metrics.METRICS.items():
-        held = screen.set_index("design")[by].reindex(refined.design)
-        if held.isna().any():  # the table stage refuses it; every row the refinement names is read
-            continue
-        margin = float(np.abs(refined[by].to_numpy() - held.to_numpy()).max())
-        best = metrics.rank_designs(refined, by).iloc[0][by]
-        outside = metrics.rank_designs(screen[~screen.design.isin(refined.design)], by)
-        reach = outside[by] + margin if spec.higher_is_better else outside[by] - margin
-        still = reach >= best if spec.higher_is_better else reach <= best
-        out |= {int(d) for d in outside.design[still]} | {int(d) for d in outside.design.head(1)}
-    return sorted(out)
-
-
-def _resimulate_screen(out_dir: Path, rng: np.random.Generator, seed: int, say: Callable[[str], None]) -> list[str]:
-    """Re-simulate, in the screen's bundle, the rows the bundle's screen verdicts read: the tables
-    named by its reproduction record's ``bundles_read`` (checked unchanged by check-bundle), the
-    screen the one its configs' ``screen_from.bundle`` names, the refinement the other."""
-    from morphlearn.bundles import check as bundle_check
-
-    try:
-        man = bundle_check.read_manifest(out_dir / bundle_check.MANIFEST)
-        rec = bounded.json_file(out_dir / bundle_check.READ_RECORD)
-        read = rec["bundles_read"] if isinstance(rec, dict) else {}
-        by = man["made_by"]
-        cfg = bundle_check._configured(by["configs"], by.get("git_commit")) or {}
-        sf = cfg.get("screen_from") or {}
-    except (BundleError, OSError, ValueError, KeyError, TypeError):
-        read, sf = {}, {}
-    names = [r for r in read if isinstance(r, str)] if isinstance(read, dict) else []
-    ours = [r for r in names if isinstance(sf, dict) and r == f"{sf.get('bundle')}/{sf.get('model')}/metrics.csv"]
-    if len(names) != 2 or len(ours) != 1:
-        return [
-            f"{out_dir}: --resimulate {SCREEN}: this bundle reads no screen (its configs set no screen_from, or its "
-            f"{bundle_check.READ_RECORD} names no screen and refinement); allowed only for a bundle that does "
-            "(results/paper)"
-        ]
-    screen_rel, refined_rel = ours[0], next(r for r in names if r != ours[0])
-    paths = [bundle_check.read_path(out_dir, r) for r in (screen_rel, refined_rel)]
-    if None in paths:
-        return [f"{out_dir}: --resimulate {SCREEN}: {screen_rel} or {refined_rel} is not there"]
-    screen_table, refined_table = (pd.read_csv(p) for p in paths)
-    designs = screen_designs(screen_table, refined_table)
-    screen_dir = paths[0].parents[1]
-    say(
-        f"{SCREEN}: the {len(designs)} rows of {screen_rel} its verdicts read (the {len(refined_table)} designs "
-        f"{refined_rel} holds, and by each metric the best outside and those the margin leaves open): {designs}"
-    )
-    return _resimulate_model(screen_dir, str(sf["model"]), [str(d) for d in designs], rng, seed, say)
 
 
 def sample_chance(k: int, n: int) -> float:
