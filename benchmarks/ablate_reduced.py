@@ -14,9 +14,8 @@ The variants (toward the theory; the theory model: docs/model.md):
 
 - ``reduced``: the model as built (docs/reduced.md);
 - ``planar sensors``: the sensors at the light's height (2D distances, as the theory reads them);
-- ``no slip``: every contact's slip 1e-6 instead of 0.01 (a body file: ``contact_slip: 1.0e-6``).
-  The authors' castor is a sphere on a fixed hinge, not a swivel: without slip the robot cannot
-  turn at all;
+- ``no slip``: every contact's slip 1e-6 instead of 0.01. The authors' castor is a sphere on a
+  fixed hinge, not a swivel: without slip the robot cannot turn at all;
 - ``free castor``: the castor as an ideal swivel (no force from its contact), the wheels as built;
 - ``no wheel slip``: the wheels' contacts stiff (slip 1e-6), the castor as built;
 - ``rolling drive``: no wheel slip and a free castor: the theory's differential drive, with the
@@ -64,8 +63,8 @@ EPS = 1e-4
 class Variant:
     name: str
     params: Callable[[EmpiricalParams], EmpiricalParams] = lambda p: p
-    slip: float | None = None  # the wheels' contacts; None: the body's contact_slip
-    free_castor: bool = False  # the castor a free swivel (no force); else the body's contact_slip
+    slip: float = authors.SLIP  # the wheels' contacts
+    castor_slip: float | None = authors.SLIP  # None: a free swivel (no force)
     mass_scale: float = 1.0
     torque_scale: float = 1.0  # the motors' cap (given to the kernel: the body file's range stops at 1e4)
     planar: bool = False
@@ -75,10 +74,10 @@ class Variant:
 VARIANTS = [
     Variant("reduced"),
     Variant("planar sensors", planar=True),
-    Variant("no slip", lambda p: p.replace(contact_slip=1e-6)),  # a body file
-    Variant("free castor", free_castor=True),
+    Variant("no slip", slip=1e-6, castor_slip=1e-6),
+    Variant("free castor", castor_slip=None),
     Variant("no wheel slip", slip=1e-6),
-    Variant("rolling drive", slip=1e-6, free_castor=True),
+    Variant("rolling drive", slip=1e-6, castor_slip=None),
     Variant("no inertia", mass_scale=1e-6),
     Variant("no torque cap", torque_scale=1e6),
     Variant("linear motor law", linear=True),
@@ -86,7 +85,7 @@ VARIANTS = [
         "kinematic",
         torque_scale=1e6,
         slip=1e-6,
-        free_castor=True,
+        castor_slip=None,
         mass_scale=1e-6,
         planar=True,
         linear=True,
@@ -96,18 +95,15 @@ VARIANTS = [
 
 def constants(v: Variant, p: EmpiricalParams, l1: tuple[float, float], l2: tuple[float, float]) -> bodymod.Body:
     """The step's constants of ``v``: body.body's derivation with the variant's slips, masses and
-    sensor height (the model itself where ``v`` changes none of them: a variant of the body file's
-    values alone, e.g. ``no slip``, is the model with that body)."""
-    if (v.slip, v.free_castor, v.mass_scale, v.planar) == (None, False, 1.0, False):
+    sensor height (the model itself where ``v`` changes none of them)."""
+    if (v.slip, v.castor_slip, v.mass_scale, v.planar) == (authors.SLIP, authors.SLIP, 1.0, False):
         return bodymod.body(p, l1, l2)
     m, s = bodymod.mass_matrix(p, l1, l2)
     j = bodymod.contact_jacobian(p)
     # rows: left wheel x, y, right wheel x, y, castor x, y; each a damper of 1 / slip
-    wheel = p.contact_slip if v.slip is None else v.slip
-    c = np.array([1 / wheel] * 4 + ([0.0, 0.0] if v.free_castor else [1 / p.contact_slip] * 2))
+    c = np.array([1 / v.slip] * 4 + ([0.0, 0.0] if v.castor_slip is None else [1 / v.castor_slip] * 2))
     dz = 0.0 if v.planar else authors.sensor_height(p) - authors.LIGHT_Z
-    damping = p.dt * j.T @ np.diag(c) @ j
-    return bodymod.constants(p.dt, m * v.mass_scale, s * v.mass_scale, damping, dz, p.motor_cfm)
+    return bodymod.constants(p.dt, m * v.mass_scale, s * v.mass_scale, p.dt * j.T @ np.diag(c) @ j, dz)
 
 
 def solved_cells(v: Variant, base: EmpiricalParams, m: int) -> tuple[np.ndarray, np.ndarray, float]:

@@ -198,10 +198,7 @@ def test_options_enter_the_science_record_only_when_on() -> None:
     assert "early_stop" not in sci_off and "adaptive_weights" not in sci_off
     on = science(cfgmod.deep_merge(off, {"empirical": {"early_stop": True, "adaptive_weights": True}}))
     assert on["early_stop"] == {"margin": 2.0, "check_every": 10}
-    assert on["adaptive_weights"] == {"stride": 2, "near": 4.0, "cross_env": True}
-    # the grid per environment (the results made before adaptive_cross_env) is recorded as they were
-    per_env = {"early_stop": True, "adaptive_weights": True, "adaptive_cross_env": False}
-    assert science(cfgmod.deep_merge(off, {"empirical": per_env}))["adaptive_weights"] == {"stride": 2, "near": 4.0}
+    assert on["adaptive_weights"] == {"stride": 2, "near": 4.0}
     survey = cfgmod.read(ROOT / "config.yaml", [ROOT / "config/survey.yaml"])
     assert science(survey)["adaptive_weights"]["near"] == 1.5  # its bundle's record
     refine = cfgmod.read(ROOT / "config.yaml", [ROOT / "config/refine_pybullet.yaml"])

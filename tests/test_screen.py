@@ -91,12 +91,10 @@ def test_config_records_the_screen_and_refuses_bad_ones() -> None:
     pytest.importorskip("morphlearn.ode._core")
     e = models.get("ode").settings(_ode(adaptive_screen=SCREEN))
     assert e.options.screen == (SCREEN["bundle"], SCREEN["model"])
-    assert e.science["adaptive_weights"] == {"stride": 6, "near": 2.5, "cross_env": True, "screen": SCREEN}
+    assert e.science["adaptive_weights"] == {"stride": 6, "near": 2.5, "screen": SCREEN}
     assert SweepOptions.from_science(e.science) == e.options
-    # without a screen, per environment, the record is as before (old results' digests hold)
-    old = models.get("ode").settings(_ode(adaptive_cross_env=False))
-    assert old.science["adaptive_weights"] == {"stride": 6, "near": 2.5}
-    assert SweepOptions.from_science(old.science) == old.options and not old.options.cross_env
+    # without a screen the record is as before (old results' digests hold)
+    assert models.get("ode").settings(_ode()).science["adaptive_weights"] == {"stride": 6, "near": 2.5}
     with pytest.raises(ConfigError, match=r"^ode\.adaptive_screen = \{bundle: results/nowhere, model: reduced\}: "):
         _ode(adaptive_screen={**SCREEN, "bundle": "results/nowhere"})
     with pytest.raises(ConfigError, match=r"^ode\.adaptive_screen is set with ode\.adaptive_weights = false"):

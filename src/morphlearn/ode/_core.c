@@ -42,6 +42,7 @@
 #define CASTOR_Y 0.5 /* castor centre (authors' frame), a sphere as large as a wheel */
 #define WHEEL_X 0.5
 #define MAX_CONTACTS 10
+#define SLIP 0.01
 
 enum { GROUP_NONE = 0, GROUP_ROBOT = 1, GROUP_ENV = 2, GROUP_GROUND = 3 };
 
@@ -91,21 +92,16 @@ static void on_message(int num, const char *msg, va_list ap) {
     }
 }
 
-/* Body parameters, in this order in the Python tuple (morphlearn.ode.core.params_tuple).
- * contact_slip: every contact's force-dependent slip (slip1 = slip2); erp, cfm: the world's error
- * reduction and constraint-force mixing (ODE's defaults in double precision, 0.2 and 1e-10, in
- * the body file). */
+/* Body parameters, in this order in the Python tuple (morphlearn.ode.core.params_tuple). */
 typedef struct {
     double body_mass, wheel_mass, castor_mass, wheel_radius, max_speed, max_torque, wheel_setback,
         light_radius, gravity, dt, success_radius;
     long steps;
-    double contact_slip, erp, cfm;
 } Params;
 
 typedef struct {
     dWorldID world;
     dJointGroupID contacts;
-    double slip;
 } CollideData;
 
 /* Which geometry pairs collide (the authors' groups): anything with the ground, robot-env and
@@ -128,8 +124,8 @@ static void near_callback(void *data, dGeomID o1, dGeomID o2) {
     for (int i = 0; i < n; i++) {
         c[i].surface.mode = dContactSlip1 | dContactSlip2 | dContactApprox1;
         c[i].surface.mu = dInfinity;
-        c[i].surface.slip1 = cd->slip;
-        c[i].surface.slip2 = cd->slip;
+        c[i].surface.slip1 = SLIP;
+        c[i].surface.slip2 = SLIP;
         dJointID j = dJointCreateContact(cd->world, cd->contacts, &c[i]);
         dJointAttach(j, b1, b2);
     }
@@ -187,8 +183,6 @@ static void world_build(World *W, const Params *p, const double *s1, const doubl
     const double wr = p->wheel_radius;
     W->world = dWorldCreate();
     dWorldSetGravity(W->world, 0, 0, -p->gravity);
-    dWorldSetERP(W->world, p->erp);
-    dWorldSetCFM(W->world, p->cfm);
     W->space = dHashSpaceCreate(0);
     W->contacts = dJointGroupCreate(0);
     W->ground = dCreatePlane(W->space, 0, 0, 1, 0);
@@ -271,7 +265,7 @@ static int episode(const Params *p, const double *s1, const double *s2, double w
     if (setjmp(g->jump)) return -1; /* an ODE error (fail_with): W is left unfreed */
     g->armed = 1;
     world_build(&W, p, s1, s2, lx, ly);
-    CollideData cd = {W.world, W.contacts, p->contact_slip};
+    CollideData cd = {W.world, W.contacts};
     const dBodyID chassis = W.body[B_CHASSIS];
     double best = INFINITY, r1, r2;
     int64_t hit = -1, k = 0;
@@ -316,15 +310,13 @@ static int episode(const Params *p, const double *s1, const double *s2, double w
 /* "O&" converter: the params tuple of morphlearn.ode.core.params_tuple into Params. */
 static int parse_params(PyObject *o, void *out) {
     Params *p = (Params *)out;
-    if (!PyArg_ParseTuple(o, "ddddddddddldddd;params: a tuple of 15 body values (core.params_tuple)",
-                          &p->body_mass, &p->wheel_mass, &p->castor_mass, &p->wheel_radius, &p->max_speed,
-                          &p->max_torque, &p->wheel_setback, &p->light_radius, &p->gravity, &p->dt, &p->steps,
-                          &p->success_radius, &p->contact_slip, &p->erp, &p->cfm))
+    if (!PyArg_ParseTuple(o, "ddddddddddld;params: a tuple of 12 body values (core.params_tuple)", &p->body_mass,
+                          &p->wheel_mass, &p->castor_mass, &p->wheel_radius, &p->max_speed, &p->max_torque,
+                          &p->wheel_setback, &p->light_radius, &p->gravity, &p->dt, &p->steps, &p->success_radius))
         return 0;
     /* the ranges are the caller's (morphlearn.physics.params); here only what C itself relies on */
-    const double v[] = {p->body_mass,     p->wheel_mass,   p->castor_mass, p->wheel_radius, p->max_speed,
-                        p->max_torque,    p->wheel_setback, p->light_radius, p->gravity,    p->dt,
-                        p->success_radius, p->contact_slip, p->erp,         p->cfm};
+    const double v[] = {p->body_mass, p->wheel_mass, p->castor_mass, p->wheel_radius, p->max_speed, p->max_torque,
+                        p->wheel_setback, p->light_radius, p->gravity, p->dt, p->success_radius};
     for (size_t i = 0; i < sizeof v / sizeof v[0]; i++)
         if (!isfinite(v[i])) {
             PyErr_SetString(PyExc_ValueError, "params: every body value must be finite");

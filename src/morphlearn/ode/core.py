@@ -58,8 +58,8 @@ def available() -> bool:
 
 def params_tuple(p: EmpiricalParams) -> tuple[Any, ...]:
     """The body as the C core reads it (order fixed by ``_core.c``'s Params). wheel_friction and
-    solver_iterations are not read: ODE's contacts have mu = infinity with force-dependent slip
-    (``contact_slip``), and dWorldStep solves exactly."""
+    solver_iterations are not read: ODE's contacts have mu = infinity with force-dependent slip,
+    and dWorldStep solves exactly."""
     return (
         float(p.body_mass),
         float(p.wheel_mass),
@@ -73,9 +73,6 @@ def params_tuple(p: EmpiricalParams) -> tuple[Any, ...]:
         float(p.dt),
         int(p.steps),
         success_radius(p),
-        float(p.contact_slip),
-        float(p.erp),
-        float(p.cfm),
     )
 
 

@@ -14,7 +14,6 @@ from morphlearn.config import ConfigError
 from morphlearn.errors import UsageError
 from morphlearn.ode.core import INSTALL_HINT, available
 from morphlearn.physics.model import Physics
-from morphlearn.physics.params import EmpiricalParams
 
 if TYPE_CHECKING:
     from morphlearn.results import DesignResult
@@ -34,11 +33,6 @@ class Ode(Physics):
     resumes_inside_design = True  # ~30 core-minutes a design at 121 x 121: resume inside it
     takes_screen = True  # its sweep is the physics layer's: adaptive_screen adds cells to the first wave
     levers_doc = "docs/ode.md"
-    #: what ODE reads: not wheel_friction (mu is infinite), solver_iterations (dWorldStep is exact)
-    #: nor motor_cfm (the reduced model's; ODE's world mixes cfm)
-    recorded_params = tuple(
-        k for k in EmpiricalParams.__dataclass_fields__ if k not in ("wheel_friction", "solver_iterations", "motor_cfm")
-    )
 
     def parse(self, sec: Mapping[str, Any], shared: Shared) -> Any:
         if sec.get("enabled") and sec.get("results_from") is None and not available():

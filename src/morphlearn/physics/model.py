@@ -30,7 +30,7 @@ from morphlearn.model_interface import Done, Model, PartialPath, Resources
 from morphlearn.physics import cost
 from morphlearn.physics.authors import success_radius
 from morphlearn.physics.options import SweepOptions
-from morphlearn.physics.params import AUTHORS_CONTACT, EmpiricalParams, load_params
+from morphlearn.physics.params import EmpiricalParams, load_params
 from morphlearn.physics.progress import DesignsProgress, EpisodeProgress
 from morphlearn.results import DesignResult
 
@@ -145,12 +145,6 @@ class Physics(Model):
     engine_ranges: ClassVar[Mapping[str, tuple[float, float, str]]] = MappingProxyType({})
     #: Where the measured miss rate of its adaptive weight grid is documented (captions).
     levers_doc: ClassVar[str] = "docs/empirical_levers.md"
-    #: The body parameters its science record holds: the ones it reads (a parameter it does not
-    #: read would name a difference its results do not have). The default: every parameter but the
-    #: authors' robot's contact and constraint ones (pybullet's and MuJoCo's records as before).
-    recorded_params: ClassVar[tuple[str, ...]] = tuple(
-        k for k in EmpiricalParams.__dataclass_fields__ if k not in AUTHORS_CONTACT
-    )
 
     # -- what its results are ------------------------------------------------------------------------
     def robot_of(self, science: Mapping[str, Any]) -> str:
@@ -232,7 +226,7 @@ class Physics(Model):
                 "positions_per_axis": grid.positions_per_axis,
                 "weights": sec["weights"],
                 "designs": list(held),
-                "params": params.record(self.recorded_params),
+                "params": {**body.to_dict(), **overrides},
                 # only when not the engine's default robot: the digests of results made before hold
                 **({"robot": robot} if robot != self.robots[0] else {}),
                 # only when on, so that the digests of results made before the option existed hold

@@ -6,8 +6,6 @@
   the one up to the stop.
 - ``adaptive_weights`` (an option, off by default; it can miss successes): simulate only the
   cells of the weight grid that :mod:`.refine` picks, the rest are inferred failures.
-- ``adaptive_cross_env`` (with the adaptive grid; on by default): a design's four environments
-  share one mask, so no generalist is lost to one environment's region not reaching it.
 - ``adaptive_screen`` (with the adaptive grid): a committed bundle of a cheaper model's outcomes of
   the same designs (the reduced model's, for ODE); the grid's first wave also simulates every cell
   it calls a success or a near miss (:func:`.refine.screen_cells`).
@@ -34,9 +32,6 @@ class SweepOptions:
     adaptive_weights: bool = False
     stride: int = DEFAULT_STRIDE
     near: float = DEFAULT_NEAR
-    #: a design's environments share one mask (:mod:`.refine`); False: each its own, as results
-    #: made before it were (their science records name no ``cross_env``)
-    cross_env: bool = True
     #: (bundle, model) of the screen whose successes and near misses join the first wave, or None
     screen: tuple[str, str] | None = None
 
@@ -48,7 +43,6 @@ class SweepOptions:
             adaptive_weights=bool(emp.get("adaptive_weights", False)),
             stride=int(emp.get("adaptive_stride", DEFAULT_STRIDE)),
             near=float(emp.get("adaptive_near", DEFAULT_NEAR)),
-            cross_env=bool(emp.get("adaptive_cross_env", True)),
             screen=_screen(emp.get("adaptive_screen")),
         )
 
@@ -64,7 +58,6 @@ class SweepOptions:
                 adaptive_weights=bool(ad),
                 stride=int(ad["stride"]) if ad else DEFAULT_STRIDE,
                 near=float(ad["near"]) if ad else DEFAULT_NEAR,
-                cross_env=bool(ad.get("cross_env", False)) if ad else True,
                 screen=_screen(ad.get("screen")) if ad else None,
             )
         except (TypeError, KeyError, ValueError) as e:
@@ -82,8 +75,6 @@ class SweepOptions:
             out["early_stop"] = {"margin": self.margin, "check_every": CHECK_EVERY}
         if self.adaptive_weights:
             out["adaptive_weights"] = {"stride": self.stride, "near": self.near}
-            if self.cross_env:  # only when on: the records of results made per environment hold
-                out["adaptive_weights"]["cross_env"] = True
             if self.screen is not None:  # only when set: the digests of results made before hold
                 out["adaptive_weights"]["screen"] = {"bundle": self.screen[0], "model": self.screen[1]}
         return out

@@ -38,13 +38,6 @@ class EmpiricalParams:
     dt: float = 0.05  # s, physics step
     steps: int = 2500  # steps per episode (horizon = steps * dt = 125 s)
     solver_iterations: int = 100  # 50 flips outcomes; 100 makes results mirror-symmetric
-    #: the authors' robot (ode, reduced): contact slip (m/s per N), ODE's world ERP and CFM at its
-    #: double-precision defaults, and the reduced model's motor-row CFM (config_schema.yaml says
-    #: which model reads which)
-    contact_slip: float = 0.01
-    erp: float = 0.2
-    cfm: float = 1e-10
-    motor_cfm: float = 1e-5
 
     def __post_init__(self) -> None:
         for f in dataclasses.fields(self):
@@ -76,28 +69,10 @@ class EmpiricalParams:
         return cls(**dict(values))
 
     def to_dict(self) -> dict[str, Any]:
-        """Every parameter, but the authors' contact and constraint ones only where not at their
-        defaults: every record and digest made before they were parameters holds (the models that
-        read them record them always: :func:`record`)."""
-        out = dataclasses.asdict(self)
-        for k in AUTHORS_CONTACT:
-            if out[k] == _DEFAULTS[k]:
-                del out[k]
-        return out
-
-    def record(self, keys: tuple[str, ...]) -> dict[str, Any]:
-        """The parameters ``keys`` (a model's ``recorded_params``: the ones it reads), for a
-        science record."""
-        full = dataclasses.asdict(self)
-        return {k: full[k] for k in keys}
+        return dataclasses.asdict(self)
 
     def replace(self, **changes: Any) -> EmpiricalParams:
         return dataclasses.replace(self, **changes)
-
-
-#: The authors' robot's contact slip and constraint mixing (read by ode and the reduced model).
-AUTHORS_CONTACT = ("contact_slip", "erp", "cfm", "motor_cfm")
-_DEFAULTS = {f.name: f.default for f in dataclasses.fields(EmpiricalParams)}
 
 
 def _ranges_from_schema() -> dict[str, tuple[float, bool, float | None, bool]]:

@@ -7,21 +7,10 @@ Successes of one design in one environment form a few compact regions of the (w1
 2. simulate every unsimulated 8-neighbour of a cell that succeeded or came near the light
    (closest approach within ``near`` times the contact distance), and repeat until nothing new.
 
-Across environments (``across``, the sweep's default, ``adaptive_cross_env``): a cell that
-succeeds in any of a design's four environments is simulated in all four (and grows there as
-step 2 says, from that environment's own outcome). A generalist succeeds in every environment, so
-it is found wherever any environment's region reaches it. Run per environment instead, an island
-of successes that one environment's own region never reaches is never simulated there, and every
-generalist in it is lost while ``at_least_one`` stays right (a design of the 6561 map lost all 7
-of its generalists so: tests/test_refine_cross_env.py). Sharing near misses too, or the whole
-mask, finds no more generalists on the replayed designs and costs more
-(``benchmarks/replay_levers.py``, docs/reduced.md).
-
 Cells never simulated are taken as failures (stored with status ``STATUS_INFERRED``, NaN
 ``first_time`` and ``min_dist``), so a success region that no lattice cell or near miss touches is
-missed: the miss rate is measured (``benchmarks/validate_levers.py``, ``benchmarks/replay_levers.py``,
-docs/empirical.md) and the results' science record and the figure captions say the grid was
-refined adaptively.
+missed: the miss rate is measured (``benchmarks/validate_levers.py``, docs/empirical.md) and the
+results' science record and the figure captions say the grid was refined adaptively.
 """
 
 from __future__ import annotations
@@ -52,37 +41,17 @@ def first_wave(m: int, stride: int, shape: tuple[int, ...], first: np.ndarray | 
     return start if first is None else start | np.asarray(first, bool)
 
 
-def replay_mask(
-    seeds: np.ndarray,
-    stride: int = DEFAULT_STRIDE,
-    first: np.ndarray | None = None,
-    *,
-    across: bool = False,
-    success: np.ndarray | None = None,
-) -> np.ndarray:
+def replay_mask(seeds: np.ndarray, stride: int = DEFAULT_STRIDE, first: np.ndarray | None = None) -> np.ndarray:
     """The cells :func:`refine_waves` simulates, replayed on exhaustive maps (..., m, m) at once,
     vectorised, from ``seeds`` = success | promising: the refinement explores exactly the
     8-connected regions of seed cells that touch its first wave (the lattice, and ``first`` where
     given: a screen's cells) and simulates them with a one-cell fringe, besides the first wave (a
-    test checks it equals :func:`refine_waves` and the grid simulated one cell at a time).
-    ``across``: axis -3 holds one design's environments, and a success in one is simulated in
-    all (the module docstring): the least set closed under both rules, reached by repeating the
-    replay with the successes found added to every environment's first wave."""
+    test checks it equals :func:`refine_waves` and the grid simulated one cell at a time)."""
     from scipy import ndimage
 
     seeds = np.asarray(seeds, bool)
     m = seeds.shape[-1]
     start = first_wave(m, stride, seeds.shape, first)
-    if across:
-        if success is None:
-            raise ValueError("replay_mask(across=True) needs the successes")
-        success = np.asarray(success, bool)
-        while True:  # each pass adds cells, so it ends
-            mask = replay_mask(seeds, stride, start)
-            grown = start | (mask & success).any(axis=-3, keepdims=True)
-            if np.array_equal(grown, start):
-                return mask
-            start = grown
     out = np.empty(seeds.shape, bool)
     flat_in, flat_start, flat_out = seeds.reshape(-1, m, m), start.reshape(-1, m, m), out.reshape(-1, m, m)
     eight = np.ones((3, 3), bool)
@@ -101,12 +70,10 @@ def simulated_mask(
     near: float,
     stride: int = DEFAULT_STRIDE,
     first: np.ndarray | None = None,
-    *,
-    across: bool = False,
 ) -> np.ndarray:
     """(4, m, m) cells the adaptive grid at ``near`` simulates, replayed on exhaustive outcomes
-    (``first``: the screen's cells its first wave also holds; ``across``: :func:`replay_mask`)."""
-    return replay_mask(success | (min_dist <= near * contact), stride, first, across=across, success=success)
+    (``first``: the screen's cells its first wave also holds)."""
+    return replay_mask(success | (min_dist <= near * contact), stride, first)
 
 
 def misses(
@@ -116,16 +83,13 @@ def misses(
     near: float,
     stride: int = DEFAULT_STRIDE,
     first: np.ndarray | None = None,
-    *,
-    across: bool = False,
 ) -> dict[str, float]:
     """What the adaptive grid at ``near`` would have missed on exhaustive (4, m, m) outcomes
     (env, w1, w2) of one design, replayed without simulating (``min_dist`` as simulated with the
     same early-stop setting, so the replay makes the adaptive run's choices): the share of episodes
     it simulates, the successes, the generalists and the controllers solving at least one
-    environment (M_CF's denominator) it loses. ``first``: a screen's cells (:func:`screen_cells`);
-    ``across``: a success in one environment is simulated in all (:func:`replay_mask`)."""
-    simulated = simulated_mask(success, min_dist, contact, near, stride, first, across=across)
+    environment (M_CF's denominator) it loses. ``first``: a screen's cells (:func:`screen_cells`)."""
+    simulated = simulated_mask(success, min_dist, contact, near, stride, first)
     kept = success & simulated
     gen, gen_kept = success.all(axis=0), kept.all(axis=0)
     one, one_kept = success.any(axis=0), kept.any(axis=0)
@@ -158,20 +122,14 @@ def refine_waves(
     simulate: Callable[[np.ndarray], tuple[np.ndarray, np.ndarray]],
     stride: int,
     first: np.ndarray | None = None,
-    group: int = 1,
 ) -> np.ndarray:
     """The adaptive grid (the module docstring's steps) on ``n_maps`` (m, m) maps at once: each
     wave of every map is simulated in one call ``simulate(cells)`` (cells (k, 3) = map, i, j, in
     row-major order) returning ``(success, promising)``; a wave is simulated whole before its
     outcomes are looked at, so the cells per map do not depend on the other maps (tested against
     the grid simulated one cell at a time). ``first``: (n_maps, m, m) cells the first wave holds
-    besides the lattice (a screen's successes and near misses, :func:`screen_cells`). ``group``:
-    consecutive maps of one design (4: its environments, the module docstring's "across"): a cell
-    that succeeds in one of them joins the next wave of every other that has not simulated it.
-    Returns the (n_maps, m, m) simulated mask. The physics sweep (:mod:`morphlearn.physics.sweep`)
-    runs it."""
-    if group < 1 or n_maps % group:
-        raise ValueError(f"group = {group} must be >= 1 and divide n_maps = {n_maps}")
+    besides the lattice (a screen's successes and near misses, :func:`screen_cells`). Returns the
+    (n_maps, m, m) simulated mask. The physics sweep (:mod:`morphlearn.physics.sweep`) runs it."""
     done = np.zeros((n_maps, m, m), bool)
     wave = np.argwhere(first_wave(m, stride, (n_maps, m, m), first))
     while len(wave):
@@ -185,10 +143,5 @@ def refine_waves(
         grow2 = grow.copy()
         grow2[:, :, 1:] |= grow[:, :, :-1]
         grow2[:, :, :-1] |= grow[:, :, 1:]
-        if group > 1:  # a success in one map of a group: that cell in every map of it
-            hit = np.zeros((n_maps, m, m), bool)
-            hit[tuple(wave[ok].T)] = True
-            shared = hit.reshape(-1, group, m, m).any(axis=1, keepdims=True)
-            grow2 |= np.broadcast_to(shared, (n_maps // group, group, m, m)).reshape(n_maps, m, m)
         wave = np.argwhere(grow2 & ~done)
     return done

@@ -3,8 +3,7 @@ at once. An engine is its batch function (the episodes of given weights and envi
 data; the levers live here once.
 
 - ``options.adaptive_weights``: the adaptive weight grid (:func:`morphlearn.physics.refine.refine_waves`,
-  its lattice stride, near-miss radius and whether a design's environments share one mask from
-  ``options``); cells it never simulates get
+  its lattice stride and near-miss radius from ``options``); cells it never simulates get
   ``STATUS_INFERRED`` and NaN arrays.
 - ``screen``: (4, m, m) cells the adaptive grid's first wave also simulates (a cheaper model's
   successes and near misses of the same design, :func:`morphlearn.physics.refine.screen_cells`).
@@ -144,7 +143,7 @@ def sweep_designs(
 
     try:
         if options.adaptive_weights:
-            sim = refine_waves(m, 4 * nd, simulate, options.stride, screen, 4 if options.cross_env else 1)
+            sim = refine_waves(m, 4 * nd, simulate, options.stride, screen)
             status[~sim] = STATUS_INFERRED
             first[~sim] = np.nan  # a partial file may hold cells this path never asks for
             dist[~sim] = np.nan

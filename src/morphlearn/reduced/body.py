@@ -6,14 +6,12 @@ wheels, the castor sphere and the two sensor spheres, at their ODE positions and
 three spinning parts (the wheels about their axle, the castor about its free hinge), on a floor
 it touches at the three spheres' lowest points. What ODE does and what this keeps:
 
-- Contacts: mu = infinity with force-dependent slip (the body file's ``contact_slip``, the
-  authors' 0.01) in both tangential directions, i.e. each contact point's tangential velocity
-  after the step is -slip x the tangential force: a linear damper of 1 / 0.01 = 100 N s/m,
-  implicit in the step exactly as ODE's constraint-force mixing makes it. Normal forces never
-  limit friction (mu is infinite), so they do not enter.
+- Contacts: mu = infinity with force-dependent slip 0.01 in both tangential directions, i.e. each
+  contact point's tangential velocity after the step is -0.01 x the tangential force: a linear
+  damper of 1 / 0.01 = 100 N s/m, implicit in the step exactly as ODE's constraint-force mixing
+  makes it. Normal forces never limit friction (mu is infinite), so they do not enter.
 - Motors: a velocity target max_speed tanh(w s) on the wheel's rate relative to the chassis,
-  torque capped at max_torque, with the body file's ``motor_cfm`` (1e-5, ODE's default in single
-  precision; the ode model's double-precision world mixes 1e-10, its ``cfm``) on the motor row;
+  torque capped at max_torque, with ODE's default constraint-force mixing (1e-5) on the motor row;
   solved exactly with the dampers, as dWorldStep's LCP solves them.
 - Masses and inertias: ODE's (dMassSetBoxTotal, dMassSetSphereTotal): the box's yaw inertia
   m (1 + 1) / 12, each sphere 2/5 m r^2 about any axis; the assembly's yaw inertia about the
@@ -27,7 +25,7 @@ Approximations (named; each is measured against ODE cell by cell, docs/reduced.m
 1. Planar: the chassis neither pitches, rolls nor sinks (ODE's normal contacts and joints hold it
    level to ~1e-3 under its weight; the sensors' height above the light is taken as built).
 2. Rigid joints: the axles and the sensors' welds are exact (ODE's joints give way by about
-   cfm x their force and are pulled back by ERP each step: ``erp`` and ``cfm`` are not read).
+   1e-5 x their force and are pulled back by ERP = 0.2 each step).
 3. The light is never touched before success (contact starts at the success radius or beyond:
    success is the contact distance plus 2^-10), so it is not a body here.
 4. Gyroscopic terms vanish (every spinning part is a sphere; the box turns about z only).
@@ -42,6 +40,9 @@ import numpy as np
 
 from morphlearn.physics import authors
 from morphlearn.physics.params import EmpiricalParams
+
+#: ODE's default constraint-force mixing (dWorldSetCFM), on the motor rows.
+ODE_CFM = 1e-5
 
 
 @dataclass(frozen=True)
@@ -114,19 +115,18 @@ def body(p: EmpiricalParams, l1: tuple[float, float], l2: tuple[float, float]) -
     M, S = mass_matrix(p, l1, l2)
     J = contact_jacobian(p)
     # M (q_new - q) = dt (J^T f + centripetal + J_m^T lam), f = -(1/slip) J q_new: the dampers implicit
-    damping = p.dt / p.contact_slip * J.T @ J
-    return constants(p.dt, M, S, damping, authors.sensor_height(p) - authors.LIGHT_Z, p.motor_cfm)
+    damping = p.dt / authors.SLIP * J.T @ J
+    return constants(p.dt, M, S, damping, authors.sensor_height(p) - authors.LIGHT_Z)
 
 
-def constants(dt: float, M: np.ndarray, S: np.ndarray, damping: np.ndarray, dz: float, cfm: float) -> Body:
+def constants(dt: float, M: np.ndarray, S: np.ndarray, damping: np.ndarray, dz: float) -> Body:
     """The step's constants from the mass matrix ``M``, the first moment ``S``, the dampers' implicit
-    term ``damping`` (dt J^T C J), the sensors' height above the light ``dz`` and the motor rows'
-    constraint-force mixing ``cfm`` (the body file's ``motor_cfm``, 1e-5): one derivation for the
-    model (:func:`body`) and for variants of it (benchmarks/ablate_reduced.py)."""
+    term ``damping`` (dt J^T C J) and the sensors' height above the light ``dz``: one derivation for
+    the model (:func:`body`) and for variants of it (benchmarks/ablate_reduced.py)."""
     Ainv = np.linalg.inv(M + damping)
     G = Ainv @ M
     Hm = dt * Ainv[:, 3:5]
-    K = dt * Ainv[3:5, 3:5] + cfm * np.eye(2)
+    K = dt * Ainv[3:5, 3:5] + ODE_CFM * np.eye(2)
     cen = dt * Ainv[:, 0:2] @ S
     k3 = (K[0, 0], 0.5 * (K[0, 1] + K[1, 0]), K[1, 1])
     inverse = np.linalg.inv(np.array([[k3[0], k3[1]], [k3[1], k3[2]]]))

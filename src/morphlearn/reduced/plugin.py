@@ -14,7 +14,6 @@ from typing import TYPE_CHECKING, Any
 from morphlearn.config import ConfigError
 from morphlearn.model_interface import Resources
 from morphlearn.physics.model import Physics, PhysicsSettings
-from morphlearn.physics.params import EmpiricalParams
 
 if TYPE_CHECKING:
     from morphlearn.results import DesignResult
@@ -39,13 +38,6 @@ class Reduced(Physics):
     env_file = "envs/empirical.yaml"
     robots = ("authors",)
     levers_doc = "docs/reduced.md"
-    #: what the reduced model reads: not wheel_friction (mu is infinite), solver_iterations (its
-    #: step is solved exactly), erp nor cfm (its joints are rigid; its motor rows mix motor_cfm)
-    recorded_params = tuple(
-        k
-        for k in EmpiricalParams.__dataclass_fields__
-        if k not in ("wheel_friction", "solver_iterations", "erp", "cfm")
-    )
 
     def parse(self, sec: Mapping[str, Any], shared: Shared) -> ReducedModelSettings:
         backend = sec.get("backend", "cpu")
