@@ -178,7 +178,7 @@ def test_every_verb_has_one_help_line_and_every_option_help_text() -> None:
     ("args", "msg"),
     [
         (["render", "results/nope"], "results/nope: no bundle.json"),
-        (["render", "results/ode-paper"], "holds no figures (results only, read by other bundles)"),
+        (["render", "results/ode-paper"], "holds no figures (physics only)"),
         (["render", "results/survey", "--cores", "0"], "--cores = 0; allowed"),
     ],
 )

@@ -24,7 +24,7 @@ def base() -> dict:
         ({"theory": {"horizon": -5}}, "theory.horizon = -5", "> 0"),
         ({"theory": {"integrator": "euler"}}, "theory.integrator = 'euler'", "['dp5', 'rk4']"),
         ({"sweep": {"shards": 10_000}}, "sweep.shards = 10000", "1..45"),
-        ({"colour": "red"}, "unknown key ['colour']", "allowed: ['agreement', 'allow_long_run', 'analysis'"),
+        ({"colour": "red"}, "unknown key ['colour']", "allowed: ['agreement', 'analysis'"),
         ({"theory": {"horizn": 5}}, "unknown key ['horizn'] under 'theory'", "'horizon'"),
         ({"analysis": {"horizon": 900}}, "analysis.horizon = 900", "<= 500"),
     ],

@@ -328,7 +328,7 @@ def test_compare_undefined_rho_is_true_and_json_is_strict(tmp_path: Path, capsys
         (["--samples", "0"], "--samples = 0; allowed: an integer >= 1"),
         (["--samples", "-5"], "--samples = -5"),
         (["--seed", "-1"], "--seed = -1; allowed: an integer >= 0"),
-        (["--workers", "0"], "--workers = 0; allowed: an integer 1.."),
+        (["--workers", "0"], "--workers = 0; allowed: an integer >= 1"),
         (["--time-tol", "nan"], "--time-tol = nan must be a finite number > 0"),
         (["--time-tol", "-1"], "--time-tol = -1.0"),
         (["--time-tol", "inf"], "--time-tol = inf"),
@@ -538,7 +538,7 @@ def test_results_dir_with_a_space_and_quote_reaches_the_figure_commands_whole(wf
 # --- results_dir: never a committed bundle (but to re-render it) nor a project folder (issue 38) ---
 
 #: What a run refused at start says is allowed (config.RESULTS_ALLOWED).
-WHERE_RESULTS_GO = "a folder of your own under results/ that is neither a bundle nor committed"
+WHERE_RESULTS_GO = "a folder of your own under results/ that is not a bundle"
 
 
 @pytest.mark.parametrize(

@@ -530,7 +530,7 @@ def test_verify_reports_a_wrong_stored_cell(tmp_path: Path, capsys: pytest.Captu
         # the lower bounds are checked before the dataset is read; the upper one needs its size
         (["--merged", "{m}", "--samples", "0"], "--samples = 0; allowed: an integer >= 1"),
         (["--merged", "{m}", "--samples", "8101"], "--samples = 8101; allowed: 1..8100"),
-        (["--merged", "{m}", "--workers", "0"], "--workers = 0; allowed: an integer 1.."),
+        (["--merged", "{m}", "--workers", "0"], "--workers = 0; allowed: an integer >= 1"),
         (["--merged", "{s}"], "not a readable Zarr dataset"),
     ],
 )

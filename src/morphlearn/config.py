@@ -199,9 +199,8 @@ def _check_paths(cfg: dict[str, Any], path_keys: Sequence[str]) -> None:
 SOURCE_FOLDERS = ("benchmarks", "config", "docs", "envs", "notebooks", "profiles", "src", "tests", "tools", "workflow")
 #: Where results may go, for the messages that refuse a folder.
 RESULTS_ALLOWED = (
-    "a folder of your own under results/ that is neither a bundle nor committed, reached without a link out of "
-    "results/ and without a hidden folder (e.g. results/my-run; default 'results'), or one under the system's "
-    "temporary folder"
+    "a folder of your own under results/ that is not a bundle, reached without a link out of results/ and "
+    "without a hidden folder (e.g. results/my-run; default 'results'), or one under the system's temporary folder"
 )
 
 
@@ -222,65 +221,6 @@ def source_folder(path: str | Path) -> str | None:
     for name in SOURCE_FOLDERS:
         if target.is_relative_to(here / name):
             return f"is {'' if target == here / name else 'inside '}the project's source folder {name}/"
-    return None
-
-
-def committed_folders() -> list[Path]:
-    """The folders under ``results/`` the project commits: the ``!results/<name>/`` exceptions of
-    its ``.gitignore`` (git ignores every other path under ``results/``, so a run's own folder is
-    never one), bundles or not (``results/refine``, ``results/agreement``, ``results/mujoco``)."""
-    here = Path.cwd().resolve()
-    try:
-        lines = bounded.read_bytes(here / ".gitignore").decode("utf-8", "replace").splitlines()
-    except (OSError, ValueError):  # no .gitignore (a copy of the workflow alone): none committed
-        return []
-    names = [t.strip()[1:].rstrip("/") for t in lines if t.strip().startswith("!results/") and t.strip().endswith("/")]
-    return [(here / n).resolve() for n in names if n.count("/") >= 1 and "*" not in n]
-
-
-def committed_holding(path: str | Path) -> Path | None:
-    """The committed folder (:func:`committed_folders`) that ``path`` is or lies inside; None."""
-    target = Path(path).resolve()
-    return next((c for c in committed_folders() if target == c or target.is_relative_to(c)), None)
-
-
-def own_configs(folder: Path) -> list[str]:
-    """The preset config files (``config/*.yaml``) whose ``results_dir`` is ``folder``: the runs
-    that make a committed folder that is no bundle (``config/agreement.yaml`` -> results/agreement)."""
-    here, out = Path.cwd().resolve(), []
-    for f in sorted((here / "config").glob("*.yaml")):
-        try:
-            rd = yaml_mapping(f).get("results_dir")
-        except ValueError:
-            continue
-        if isinstance(rd, str) and rd and (here / rd).resolve() == folder:
-            out.append(os.path.relpath(f, here))
-    return out
-
-
-def _shown(folder: Path) -> str:
-    here = Path.cwd().resolve()
-    return str(folder.relative_to(here)) if folder.is_relative_to(here) else str(folder)
-
-
-def _committed_refusal(target: Path, configs: Sequence[str] | None) -> str | None:
-    """Why a run may not write the committed folder (no bundle) holding ``target``: any folder
-    inside one, a folder no preset config makes (``results/refine/*``: read-only history), or one
-    written by other config files than its own (``configs``; None: not known yet, checked at the
-    workflow's start)."""
-    committed = committed_holding(target)
-    if committed is None:
-        return None
-    own = own_configs(committed) if committed == target else []
-    if committed != target:
-        return f"is inside the committed folder {_shown(committed)} (in git), which no run writes into"
-    if not own:
-        return f"is the committed folder {_shown(committed)} (in git; no config makes it, so no run writes it)"
-    if configs is not None and not set(own) & {os.path.normpath(c) for c in configs}:
-        return (
-            f"is the committed folder {_shown(committed)}, made by {' '.join(own)} alone; this run was given "
-            f"{sorted(os.path.normpath(c) for c in configs)}"
-        )
     return None
 
 
@@ -343,7 +283,7 @@ def write_refusal(path: str | Path, *, rerender: bool = False, configs: Sequence
     target = Path(path).resolve()
     held = bundle_holding(target)
     if held is None:
-        return _committed_refusal(target, configs) or place_refusal(path, rerender=rerender)
+        return place_refusal(path, rerender=rerender)
     if not (rerender and held == target):
         where = "holds a results bundle" if held == target else f"is inside the results bundle {held}"
         return f"{where} (bundle.json), which it would write into"
@@ -416,10 +356,7 @@ def _check_cross(cfg: dict[str, Any], path_keys: Sequence[str]) -> None:
     """Checks across keys that need no design grid or file (those are the settings' and each
     model's: :func:`morphlearn.configure.parse`)."""
     _check_paths(cfg, path_keys)
-    _check_results_dir(cfg["results_dir"], bool(cfg.get("render_only")))  # named as given
-    # one spelling of a folder: 'results/paper/' made every output 'results/paper//x', which no
-    # rule's input matches (hundreds of warnings, then a MissingInputException)
-    cfg["results_dir"] = os.path.normpath(cfg["results_dir"])
+    _check_results_dir(cfg["results_dir"], bool(cfg.get("render_only")))
     th = cfg["theory"]
     _check_analysis(cfg["analysis"], th)
     if cfg.get("render_only") and not (cfg["figures"]["enabled"] and th.get("enabled", True)):

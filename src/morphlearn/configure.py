@@ -9,17 +9,15 @@ Above the model registry: the Snakefile (``workflow/rules/common.smk``), each ru
 
 from __future__ import annotations
 
-import os
-from collections.abc import Mapping, Sequence
+from collections.abc import Mapping
 from pathlib import Path
 from types import MappingProxyType
 from typing import Any
 
-from morphlearn import bounded, models
 from morphlearn import config as cfgmod
+from morphlearn import models
 from morphlearn import settings as st
-from morphlearn.physics import cost
-from morphlearn.physics.model import Physics, PhysicsSettings
+from morphlearn.physics.model import Physics
 
 
 def _parse_survey(sec: Mapping[str, Any], grid: st.GridSettings) -> st.SurveySettings:
@@ -69,19 +67,6 @@ def _parse_screen(sec: Mapping[str, Any], grid: st.GridSettings) -> st.Screen:
     )
 
 
-def _check_cost(parsed: Mapping[str, Any], allowed: bool) -> None:
-    """Each physics model this config simulates against the stated bound on episodes x steps
-    (:mod:`morphlearn.physics.cost`): ConfigError with the estimate, unless ``allow_long_run``."""
-    if allowed:
-        return
-    for name, ps in parsed.items():
-        if not isinstance(ps, PhysicsSettings) or not ps.enabled or ps.results_from or ps.params is None:
-            continue
-        why = cost.refusal(name, len(ps.simulated), ps.weights, ps.params.steps, "allow_long_run: true")
-        if why:
-            raise cfgmod.ConfigError(why)
-
-
 def _parse_text_sweep(path: str | None, grid: st.GridSettings) -> str | None:
     """The second theory sweep's bundle: present, and holding every design of this grid."""
     if path is None:
@@ -127,8 +112,6 @@ def parse(cfg: Mapping[str, Any]) -> st.Settings:
             )
     coopt = st.coopt_section(v["coopt"])
     st.check_coopt(coopt)
-    parsed = {name: m.parse(v.get(name, {}), st.Shared(grid, sweep, figures)) for name, m in models.MODELS.items()}
-    _check_cost(parsed, bool(v["allow_long_run"]))
     return st.Settings(
         source=MappingProxyType(v),
         results_dir=v["results_dir"],
@@ -142,7 +125,9 @@ def parse(cfg: Mapping[str, Any]) -> st.Settings:
         engines=st.section(st.EnginesSettings, v["engines"]),
         agreement=st.agreement_section(v["agreement"]),
         # each model parses its own section (schema defaults filled: {} when absent)
-        models=MappingProxyType(parsed),
+        models=MappingProxyType(
+            {name: m.parse(v.get(name, {}), st.Shared(grid, sweep, figures)) for name, m in models.MODELS.items()}
+        ),
         bundle_dir=v["bundle_dir"],
         bundle_designs=v["bundle_designs"],
         survey=_parse_survey(v["survey_from"], grid),
@@ -155,60 +140,5 @@ def parse(cfg: Mapping[str, Any]) -> st.Settings:
 
 
 def load(path: str | Path, overrides: list[str | Path] = ()) -> st.Settings:
-    """Read a YAML config (deep-merging override files, as ``--configfile`` does) and parse it;
-    its ``results_dir`` through the write guard with those files (:func:`check_write_guard`)."""
-    s = parse(cfgmod.read(path, overrides))
-    check_write_guard(s.source, [os.path.relpath(p) for p in (*overrides, path)])
-    return s
-
-
-#: The keys a re-render sets itself (``morphlearn render``'s command): every other key of its
-#: effective config is the bundle's own.
-RERENDER_KEYS = ("render_only", "results_dir")
-
-
-def _files_config(names: Sequence[str], v: Mapping) -> dict:
-    """The validated config the files ``names`` give (``config.yaml`` first, the others merged over
-    it in their order, as Snakemake does), with ``v``'s :data:`RERENDER_KEYS`."""
-    base = next((c for c in names if Path(c).name == "config.yaml"), "config.yaml")
-    cfg = cfgmod.read(base, [c for c in names if c != base])
-    cfg |= {k: v[k] for k in RERENDER_KEYS}
-    return cfgmod.validate(cfg, models.path_keys(), models.schema_sections())
-
-
-def check_write_guard(v: Mapping, configfiles: Sequence[str]) -> None:
-    """The write guard on a run's effective config ``v`` (validated: after every ``--configfile``
-    and ``--config`` override; ``configfiles``: the files Snakemake read). ``results_dir`` is
-    checked by :func:`morphlearn.config.check_results_dir` with the config files' names. A
-    render_only run into a results bundle, and a run into a committed folder by its own config,
-    then also need the whole effective config to equal the one those files give (the bundle's
-    recorded ones, in their order), but for :data:`RERENDER_KEYS`: an override of any other key
-    (``screen_from``, a model's ``results_from``, ``bundle_dir``, ``design_cache``) would write
-    committed figures and tables from other inputs. ConfigError naming the first key that differs."""
-    rd = v["results_dir"]
-    cfgmod.check_results_dir(rd, bool(v["render_only"]), configfiles)
-    held = cfgmod.bundle_holding(rd) if v["render_only"] else None
-    if held is not None:
-        names = [str(c) for c in bounded.json_file(held / "bundle.json")["made_by"]["configs"]]
-        what = "holds a results bundle"
-    elif cfgmod.committed_holding(rd) is not None:
-        names, what = list(configfiles), "is a committed folder"
-    else:
-        return
-    try:
-        want = cfgmod.flatten(_files_config(names, v))
-    except cfgmod.ConfigError as e:
-        raise cfgmod.ConfigError(
-            f"results_dir = {rd!r} {what} whose configs {names} no longer validate ({e}); "
-            "allowed: re-make it with its documented command"
-        ) from None
-    got = cfgmod.flatten(dict(v))
-    diff = sorted(k for k in want.keys() | got.keys() if want.get(k, "(absent)") != got.get(k, "(absent)"))
-    if diff:
-        k = diff[0]
-        files = " ".join(os.path.normpath(c) for c in names if Path(c).name != "config.yaml")
-        raise cfgmod.ConfigError(
-            f"results_dir = {rd!r} {what} and this run's --config sets {k} = {got.get(k, '(absent)')!r}, "
-            f"its configs {want.get(k, '(absent)')!r}: it would write committed files from another config; "
-            f"allowed: render_only and results_dir as the only --config overrides (--configfile {files})"
-        )
+    """Read a YAML config (deep-merging override files, as ``--configfile`` does) and parse it."""
+    return parse(cfgmod.read(path, overrides))

@@ -19,13 +19,12 @@ from morphlearn.figures import registry as figure_registry
 
 # The config, parsed once into typed settings: everything below reads S, never the raw dict.
 # results_dir is checked again with the config files given (the write guard): a render_only run
-# re-renders a bundle only with the configs its bundle.json records and no other override (the
-# whole effective config compared, nested keys too).
+# re-renders a bundle only with the configs its bundle.json records (issue 57).
 try:
     S = configure.parse(config)
     RUN = runs.run(S)
-    configure.check_write_guard(
-        S.source, [os.path.relpath(f) for f in workflow.configfiles]
+    cfgmod.check_results_dir(
+        S.results_dir, S.render_only, [os.path.relpath(f) for f in workflow.configfiles]
     )
 except cfgmod.ConfigError as err:
     print(f"morphlearn: config error: {err}", file=sys.stderr)
@@ -55,33 +54,22 @@ SCIENCE = {m: models.get(m).science(S) for m in SIMULATED}
 LEARNER_SHARDS = learner_experiment.shards(S) if S.learners.enabled else []
 
 
-# Results another science config made stop the run, recorded by Snakemake or not (one results
-# folder holds one config's results; a second config would re-simulate and overwrite them), and so
-# do results of another sharding that Snakemake has no record of (copied in, or .snakemake metadata
-# cleaned: they would count as done until the merge refuses them). Main process only:
+# Results this config did not make that Snakemake has no record of (copied in, or .snakemake
+# metadata cleaned) would count as done until the merge refuses them: stop now. Main process only:
 # cluster jobs re-parse this file and must not re-read the shards. Not for `--unlock`, which only
 # clears a lock (Snakemake gives the Snakefile no other way to tell that mode than its arguments).
 if not S.render_only and workflow.is_main_process and "--unlock" not in sys.argv:
     for _m in SIMULATED:
         # (a results bundle is no results_dir but to re-render it: config._check_results_dir)
-        _stale = results_check.stale(R, _m, SCIENCE[_m], SHARDS[_m])
-        if _stale and _stale[1]:
+        _stale = results_check.unrecorded_stale(R, _m, SCIENCE[_m], SHARDS[_m])
+        if _stale:
             print(
-                f"morphlearn: {_stale[0]} was made by another science config (its science record "
-                f"differs from this config's): a results folder holds one config's results, and this "
-                f"run would re-simulate and overwrite them; allowed: this config's own results_dir, "
-                f"or delete {R}/{_m}/shards and {R}/{_m}/merged.zarr",
-                file=sys.stderr,
-            )
-        elif _stale:
-            print(
-                f"morphlearn: {_stale[0]} was made by another science config or shard count and "
+                f"morphlearn: {_stale} was made by another science config or shard count and "
                 f"Snakemake has no record of it (.snakemake metadata), so it would count as done; "
                 f"allowed: this config's own results_dir, or delete {R}/{_m}/shards and "
                 f"{R}/{_m}/merged.zarr (finished designs in {R}/{_m}/designs are reused)",
                 file=sys.stderr,
             )
-        if _stale:
             sys.exit(2)
 
 

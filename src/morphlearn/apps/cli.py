@@ -11,9 +11,7 @@ import json
 import os
 import re
 import shutil
-import signal
 import sys
-import threading
 import warnings
 from collections.abc import Sequence
 from pathlib import Path
@@ -165,9 +163,8 @@ def cmd_verify(a: argparse.Namespace) -> int:
         raise UsageError(f"--samples = {a.samples}; allowed: an integer >= 1 (cells to re-evaluate)")
     if a.seed < 0:
         raise UsageError(f"--seed = {a.seed}; allowed: an integer >= 0")
-    cores = verify.available_cores()
-    if not 1 <= a.workers <= cores:
-        raise UsageError(f"--workers = {a.workers}; allowed: an integer 1..{cores} (the cores available)")
+    if a.workers < 1:
+        raise UsageError(f"--workers = {a.workers}; allowed: an integer >= 1")
     _positive("--time-tol", a.time_tol)
     rep = verify.verify(a.merged, samples=a.samples, seed=a.seed, workers=a.workers, time_tol=a.time_tol)
     print(json.dumps(rep.as_dict(), sort_keys=True) if a.json else verify.format_report(rep))
@@ -226,25 +223,11 @@ def _render_root(a: argparse.Namespace) -> Path:
     return root
 
 
-def _under_results(root: Path, bundle_dir: str) -> None:
-    """A render runs the workflow on a copy beside the bundle, with results_dir that copy: the
-    workflow writes only under the project's results/ (or the system's temporary folder), so a
-    bundle elsewhere is refused here, in words about the bundle (not its hidden working copy)."""
-    target = (root / bundle_dir).resolve()
-    results = (root / "results").resolve()
-    if not target.is_relative_to(results) or target == results:
-        raise UsageError(
-            f"{bundle_dir}: is not a bundle inside this project's results/ folder ({results}), where a render "
-            "writes its working copy; allowed: a bundle under results/ (copy it there first)"
-        )
-
-
 def cmd_rerender_bundle(a: argparse.Namespace) -> int:
     from morphlearn.bundles import make as bundle
     from morphlearn.bundles import render as bundle_rerender
 
     root = _render_root(a)
-    _under_results(root, a.bundle)
     try:
         changed = bundle_rerender.rerender(a.bundle, root, a.cores)
     except bundle.BundleError as e:
@@ -266,13 +249,8 @@ def cmd_render(a: argparse.Namespace) -> int:
 
     root = _render_root(a)
     files = _listed_files(root / a.bundle / bundle.MANIFEST)
-    _under_results(root, a.bundle)
     if not any(f.startswith("figures/") for f in files):
-        # a results-only bundle (a theory sweep, a physics survey read by others): nothing to render
-        raise UsageError(
-            f"{a.bundle}: holds no figures (results only, read by other bundles), so nothing to re-render; "
-            f"check it with: morphlearn check-bundle {a.bundle}"
-        )
+        raise UsageError(f"{a.bundle}: holds no figures (physics only): morphlearn check-bundle {a.bundle}")
     print(f"{a.bundle}: rendering a copy from its results (a minute or two) ...", flush=True)
     try:
         with bundle_rerender.rendered_copy(a.bundle, root, a.cores) as (_, _, changed):
@@ -311,14 +289,6 @@ VOILA_CULL = (
 )
 
 
-def voila_cap(n: int) -> tuple[str, ...]:
-    """Voila's options for at most ``n`` kernels alive at once (:mod:`.explore_kernels`)."""
-    return (
-        "--VoilaConfiguration.multi_kernel_manager_class=morphlearn.apps.explore_kernels.CappedKernelManager",
-        f"--CappedKernelManager.max_kernels={n}",
-    )
-
-
 def cmd_explore(a: argparse.Namespace) -> int:
     """The interactive explorer (docs/explorer.md) as a web app: Voila on notebooks/explore.ipynb."""
     root = Path.cwd()
@@ -329,16 +299,7 @@ def cmd_explore(a: argparse.Namespace) -> int:
     voila = exe if os.path.isfile(exe) else shutil.which("voila")
     if voila is None:
         raise UsageError("voila is not installed: the explorer extra (bash tools/setup.sh installs it)")
-    if a.max_kernels < 1:
-        raise UsageError(f"--max-kernels = {a.max_kernels}; allowed: an integer >= 1")
-    args = [
-        voila,
-        str(nb.relative_to(root)),
-        f"--port={a.port}",
-        *VOILA_CULL,
-        *voila_cap(a.max_kernels),
-        *([] if a.browser else ["--no-browser"]),
-    ]
+    args = [voila, str(nb.relative_to(root)), f"--port={a.port}", *VOILA_CULL] + ([] if a.browser else ["--no-browser"])
     os.execv(voila, args)  # Voila's own exit code and signals from here on
     return 0  # not reached
 
@@ -515,11 +476,6 @@ def build_parser() -> argparse.ArgumentParser:
         help="physics models: which robot the engine builds (default: the engine's own; ode: authors; "
         "docs/authors_robot.md)",
     )
-    d.add_argument(
-        "--allow-long",
-        action="store_true",
-        help="physics models: run a design past the bound of 1e10 episode-steps (4 x M x M episodes x steps)",
-    )
     d.add_argument("--json", action="store_true", help="print one JSON object")
     d.set_defaults(func=cmd_design)
     v = sub.add_parser(
@@ -577,13 +533,6 @@ def build_parser() -> argparse.ArgumentParser:
     )
     x.add_argument("--port", type=int, default=8866, metavar="N", help="the port it serves on (8866)")
     x.add_argument("--browser", action="store_true", help="also open a browser (default: print the address only)")
-    x.add_argument(
-        "--max-kernels",
-        type=int,
-        default=4,
-        metavar="N",
-        help="pages served at once at most, each its own kernel of about 320 MB (4); more are answered 503",
-    )
     x.set_defaults(func=cmd_explore)
     r = sub.add_parser(
         "rerender-bundle",
@@ -630,10 +579,6 @@ def main(argv: Sequence[str] | None = None) -> int:
         return cmd_run(argv[1:])
     parser = build_parser()
     a = parser.parse_args(argv)
-    # SIGTERM (a job scheduler, `kill`, a closed terminal's parent) unwinds as Ctrl-C does: the
-    # render's working copy and other temporary folders are removed by their finally clauses,
-    # and a child (Snakemake) is killed by subprocess.run; without this Python dies at once
-    previous = signal.signal(signal.SIGTERM, _terminated) if _main_thread() else None
     try:
         return a.func(a)
     except (UsageError, ValueError) as e:
@@ -645,24 +590,6 @@ def main(argv: Sequence[str] | None = None) -> int:
     except KeyboardInterrupt:
         print("interrupted", file=sys.stderr)
         return 130
-    except _Terminated:
-        print("terminated", file=sys.stderr)
-        return 143
-    finally:
-        if previous is not None:
-            signal.signal(signal.SIGTERM, previous)
-
-
-class _Terminated(BaseException):
-    """SIGTERM, raised where the main thread is (BaseException: no ``except Exception`` keeps it)."""
-
-
-def _terminated(signum: int, frame: object) -> None:
-    raise _Terminated
-
-
-def _main_thread() -> bool:
-    return threading.current_thread() is threading.main_thread()
 
 
 if __name__ == "__main__":

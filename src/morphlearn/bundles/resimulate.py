@@ -21,10 +21,6 @@ from morphlearn.bundles.make import BundleError
 _NAMED = ("canonical", "best_M_L", "best_M_CF")
 
 
-def _digits(s: str) -> bool:
-    return s.isascii() and s.isdigit()
-
-
 def parse_which(which: str, flag: str = "re-simulate") -> tuple[str, str]:
     """``[MODEL:]WHICH`` -> (model, which): the model a registered name (default: the reference
     model), WHICH one of canonical, best_M_L, best_M_CF, a design index or sample:K. Raises
@@ -33,8 +29,7 @@ def parse_which(which: str, flag: str = "re-simulate") -> tuple[str, str]:
     head, _, rest = which.partition(":")
     model, spec = (head, rest) if head in models.MODELS else (models.REFERENCE, which)
     k = spec.removeprefix("sample:")
-    # ASCII digits only: str.isdigit() also accepts '²' and other digits int() refuses
-    if spec in _NAMED or _digits(spec) or (spec.startswith("sample:") and _digits(k)):
+    if spec in _NAMED or spec.isdigit() or (spec.startswith("sample:") and k.isdigit()):
         return model, spec
     raise BundleError(
         f"{flag} {which!r}: allowed: [MODEL:]WHICH, MODEL one of {', '.join(models.MODELS)} "

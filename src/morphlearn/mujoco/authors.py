@@ -133,9 +133,6 @@ class AuthorsBatchRunner:
         key = (*map(float, l1), *map(float, l2))
         m = self._models.get(key)
         if m is None:
-            from morphlearn.mujoco import log
-
-            log.install()  # MuJoCo's warnings into the run's log, not the working directory
             m = self._models[key] = mujoco.MjModel.from_xml_string(mjcf(self.params, l1, l2, self.settings))
         return m
 

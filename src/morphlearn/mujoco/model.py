@@ -158,12 +158,9 @@ def mjcf(params: EmpiricalParams, settings: MujocoSettings | None = None) -> str
 
 
 def build_model(params: EmpiricalParams, settings: MujocoSettings | None = None) -> Any:
-    """Compile :func:`mjcf` into a ``mujoco.MjModel`` (MuJoCo's warnings to the run's log, :mod:`.log`)."""
+    """Compile :func:`mjcf` into a ``mujoco.MjModel``."""
     import mujoco
 
-    from morphlearn.mujoco import log
-
-    log.install()
     return mujoco.MjModel.from_xml_string(mjcf(params, settings))
 
 

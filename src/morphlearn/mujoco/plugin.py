@@ -41,21 +41,6 @@ class Mujoco(Physics):
     libraries = ("mujoco",)
     engine_label = "MuJoCo"
     env_file = "envs/empirical.yaml"  # the physics environment holds both engines (warp: docs/mujoco.md)
-    #: Measured at the corners of the schema's box (derived in ODE), the authors' robot, two
-    #: episodes of 100 steps each (as tests/test_hostile_engine.py does for ODE): 581 of 2048
-    #: corners gave non-finite episodes, 577 of them with 1 g wheels; with the authors' 1000 kg body,
-    #: wheels of 6 kg or less gave 12 of 16 episodes non-finite, 7 kg and more none. With wheels of
-    #: 10 kg or more every non-finite corner but 10 had dt = 0.1 (227 of 2048).
-    engine_ranges = MappingProxyType(
-        {
-            "wheel_mass": (
-                10.0,
-                1.0e4,
-                "with the authors' 1000 kg body, wheels of 6 kg or less made episodes non-finite",
-            ),
-            "dt": (1.0e-4, 0.05, "at dt = 0.1 227 of the 2048 corners of the ranges gave non-finite episodes"),
-        }
-    )
 
     def parse(self, sec: Mapping[str, Any], shared: Shared) -> MujocoModelSettings:
         backend = sec.get("backend", "cpu")

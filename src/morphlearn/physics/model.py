@@ -27,7 +27,6 @@ from morphlearn import grid as gridmod
 from morphlearn.config import ConfigError
 from morphlearn.errors import UsageError, c_stdout_to_stderr
 from morphlearn.model_interface import Done, Model, PartialPath, Resources
-from morphlearn.physics import cost
 from morphlearn.physics.authors import success_radius
 from morphlearn.physics.options import SweepOptions
 from morphlearn.physics.params import EmpiricalParams, load_params
@@ -140,9 +139,6 @@ class Physics(Model):
     #: Its ``evaluate_design`` takes ``screen=`` (cells its adaptive grid's first wave also
     #: simulates, from ``adaptive_screen``: :mod:`morphlearn.physics.screen`).
     takes_screen: ClassVar[bool] = False
-    #: Body parameters narrower in this engine than the schema's ranges (derived in ODE): key ->
-    #: (least, most, the measurement that says why), checked for configs and ``morphlearn design``.
-    engine_ranges: ClassVar[Mapping[str, tuple[float, float, str]]] = MappingProxyType({})
     #: Where the measured miss rate of its adaptive weight grid is documented (captions).
     levers_doc: ClassVar[str] = "docs/empirical_levers.md"
 
@@ -207,10 +203,6 @@ class Physics(Model):
         if body is not None:
             params = EmpiricalParams.from_mapping({**body.to_dict(), **overrides})
         simulates = enabled and results_from is None
-        if simulates and params is not None:
-            why = self.outside_engine_range(params)
-            if why:
-                raise ConfigError(f"{self.name}.params (or its body file {morphology}): {why}")
         held = self._held(sec, g) if simulates else list(from_held)
         mirror_derive = bool(sec.get("mirror_derive", False))
         simulated = sorted({min(d, int(g.mirror(d))) for d in held}) if mirror_derive else list(held)
@@ -257,17 +249,6 @@ class Physics(Model):
             raise ConfigError(
                 f"{self.name}.morphology = {path!r}: {e}; allowed: a YAML file of body parameters"
             ) from None
-
-    def outside_engine_range(self, params: EmpiricalParams) -> str | None:
-        """Why ``params`` lie outside what this engine integrates (:attr:`engine_ranges`), or None."""
-        for k, (lo, hi, why) in self.engine_ranges.items():
-            v = getattr(params, k)
-            if not lo <= v <= hi:
-                return (
-                    f"{k} = {v:.6g} is outside what {self.engine_label or self.engine} integrates ({why}); "
-                    f"allowed for this engine: {lo:g} to {hi:g} (the schema's range is ODE's)"
-                )
-        return None
 
     def _check_params(self, overrides: Mapping[str, Any], body: EmpiricalParams | None) -> None:
         for k in overrides:
@@ -390,7 +371,7 @@ class Physics(Model):
         if missing:
             raise ConfigError(
                 f"{key} = {path!r}: {missing[0]} is missing; allowed: a results bundle "
-                f"with {self.name} results{self._examples()}, or null"
+                f"with {self.name} results (e.g. results/survey), or null"
                 + (" to simulate" if key.endswith("results_from") else "")
             )
         try:
@@ -413,19 +394,9 @@ class Physics(Model):
             raise ConfigError(
                 f"{key} = {path!r}: its {self.name} results hold {len(held)} of the "
                 f"{gridmod.DesignGrid(positions).size} designs of its {positions}-point grid; allowed: a survey "
-                f"of every design{self._examples()}"
+                "of every design (e.g. results/survey9-mujoco)"
             )
         return thresholds, weights, held
-
-    def _examples(self) -> str:
-        """`` (e.g. results/X, ...)``: committed bundles under results/ that hold this model's
-        results (so a message suggests none that lacks them); empty when there are none."""
-        found = sorted(
-            str(p.parent.parent)
-            for p in Path("results").glob(f"*/{self.name}/metrics.csv")
-            if (p.parent.parent / "bundle.json").is_file()
-        )
-        return f" (e.g. {', '.join(found[:3])})" if found else ""
 
     def results_from(self, s: Settings) -> str | None:
         return self.settings(s).results_from
@@ -602,12 +573,6 @@ class Physics(Model):
             params = load_params(path)
         except ValueError as e:
             raise UsageError(f"--morphology {path}: {e}") from None
-        outside = self.outside_engine_range(params)
-        if outside:
-            raise UsageError(f"--morphology {path}: {outside}")
-        too_long = cost.refusal("this design", 1, len(w), params.steps, "--allow-long")
-        if too_long and not getattr(a, "allow_long", False):
-            raise UsageError(too_long)
         # progress on stderr with the time left (half an hour for an ODE design at 121 x 121 once
         # passed in silence); stdout keeps the result (--json: one line)
         log = EpisodeProgress(f"design l1={l1} l2={l2}", every_s=10.0, stream=sys.stderr)

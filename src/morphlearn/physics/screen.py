@@ -39,13 +39,7 @@ class Screen:
     def check(self, positions: int, weights: int, designs: list[int]) -> None:
         """The screen holds these designs on this grid at these weights, or a one-line error."""
         where = f"{self.key}: {self.bundle}/{self.model}"
-        got = self.science.get("positions_per_axis")
-        if not isinstance(got, int):  # a theory bundle's science has no design grid of its own
-            raise ConfigError(
-                f"{where} records no design grid (its science has no positions_per_axis: not a physics "
-                "model's outcomes); allowed: a physics model's bundle on this run's grid, e.g. the reduced model's"
-            )
-        if got != positions:
+        if int(self.science.get("positions_per_axis", -1)) != positions:
             raise ConfigError(
                 f"{where} holds the {self.science.get('positions_per_axis')}-point grid; "
                 f"allowed: a screen on this run's grid ({positions} positions per axis)"

@@ -46,21 +46,8 @@ def recorded(path: Path) -> bool:
 def unrecorded_stale(
     results_dir: str | Path, model: str, science: dict[str, Any], shard_designs: list[np.ndarray]
 ) -> Path | None:
-    """An output of ``model`` that another config made, else None (:func:`stale`'s path)."""
-    found = stale(results_dir, model, science, shard_designs)
-    return found[0] if found else None
-
-
-def stale(
-    results_dir: str | Path, model: str, science: dict[str, Any], shard_designs: list[np.ndarray]
-) -> tuple[Path, bool] | None:
-    """An output of ``model`` in ``results_dir`` that this config did not make, and whether
-    Snakemake has a record of it; None when there is none.
-
-    Made under another science config: stale whatever Snakemake records (one results folder holds
-    one config's results: a second config would silently re-simulate and overwrite the first's).
-    A shard holding other designs than this config's sharding (same science): stale only when
-    Snakemake has no record of it (with one, re-sharding reruns it and reuses the design cache).
+    """An output of ``model`` made under another science config (or a shard holding other designs
+    than this config's sharding) that Snakemake has no record of, else None.
 
     Up to ``SAMPLE`` shards spread over the range are read; a stale one that the sample misses is
     still refused by the merge's verification of every shard.
@@ -68,23 +55,21 @@ def stale(
     want = cfgmod.digest(science)
     base = Path(results_dir) / model
     meta = base / "merged.zarr" / "zarr.json"
-    if meta.is_file():
+    if meta.is_file() and not recorded(meta.parent):
         try:
             if bounded.json_file(meta).get("attributes", {}).get("science_sha256") != want:
-                return meta.parent, recorded(meta.parent)
+                return meta.parent
         except (ValueError, AttributeError):
             pass
     n = len(shard_designs)
     for i in np.unique(np.linspace(0, n - 1, min(n, SAMPLE)).round().astype(int)):
         p = base / "shards" / f"shard_{i}.nc"
-        if not p.is_file():
+        if not p.is_file() or recorded(p):
             continue
         try:
             sha, held = _shard_header(p)
         except Exception:  # unreadable (truncated): the merge names it; nothing to compare here
             continue
-        if sha != want:
-            return p, recorded(p)
-        if not recorded(p) and not np.array_equal(held, shard_designs[i]):
-            return p, False
+        if sha != want or not np.array_equal(held, shard_designs[i]):
+            return p
     return None

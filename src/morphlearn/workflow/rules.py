@@ -4,7 +4,6 @@
 from __future__ import annotations
 
 import json
-import os
 from collections import Counter
 from collections.abc import Sequence
 from pathlib import Path
@@ -26,9 +25,6 @@ def run_shard(s: Settings, model: str, shard: int, out: str | Path) -> None:
     """Evaluate one shard; with ``design_cache`` (default) reuse the designs already finished under
     the same science (design_cache) and save each new one as soon as it is done."""
     m = models.get(model)
-    # an engine's own log (MuJoCo's MUJOCO_LOG.TXT, morphlearn.mujoco.log) goes inside the run's
-    # results folder, beside the shard logs, never into the working directory
-    os.environ["MORPHLEARN_LOG_DIR"] = str(Path(s.results_dir) / "logs" / model)
     g = s.grid.designs
     designs = m.shard_designs(s)[shard]
     sci = m.science(s)

@@ -48,32 +48,6 @@ STAGES = (
 STAGE_FIGURES = {"agreement": ("agreement",), "engines": ("engines", "disagreement")}
 
 
-def _check_dropped(s: Settings, kind: str) -> None:
-    """A stage replaces the paper's workflow: what else the config asks for would be dropped
-    silently (the learners, coopt, a bundle), and the scenario stage simulates its own sweeps, so
-    ``render_only`` would still simulate. ConfigError naming the keys."""
-    key = {"scenarios": f"scenarios = {s.scenarios!r}", "agreement": "agreement.enabled", "engines": "engines.enabled"}
-    dropped = [
-        k
-        for k, on in (
-            ("learners.enabled", s.learners.enabled),
-            ("coopt.enabled", s.coopt.enabled),
-            (f"bundle_dir = {s.bundle_dir!r}", bool(s.bundle_dir)),
-        )
-        if on
-    ]
-    if dropped:
-        raise ConfigError(
-            f"{key[kind]} makes the {kind} stage alone, so {' and '.join(dropped)} would be dropped; "
-            f"allowed: the {kind} stage without them, or the paper's workflow with them (a run makes one)"
-        )
-    if kind == "scenarios" and s.render_only:
-        raise ConfigError(
-            f"{key[kind]} with render_only = true: the scenario stage simulates its own sweeps (render_only "
-            "re-renders stored results); allowed: render_only = false with scenarios, or no scenarios"
-        )
-
-
 def run(s: Settings) -> Run:
     """The run ``s`` asks for; ConfigError (one line) when it sets two stages that each replace the
     paper's workflow (before, the first of them won silently)."""
@@ -83,8 +57,6 @@ def run(s: Settings) -> Run:
             f"{' and '.join(chosen)} are both set; a run makes one of them (allowed: one of "
             f"{', '.join(k for k, _ in STAGES)}, or none for the paper's workflow)"
         )
-    if chosen:
-        _check_dropped(s, chosen[0])
     if chosen == ["scenarios"]:
         return Run("scenarios", ("scenarios",), ())  # its targets: the comparison (no figures.smk)
     if chosen:
