@@ -15,9 +15,9 @@ from __future__ import annotations
 
 import re
 
-import numpy as np
 import pandas as pd
 import pytest
+import quoted_sources as qs
 from conftest import ROOT
 from quoted_numbers import QUOTES
 
@@ -34,24 +34,6 @@ BEST_OUR_BODY = 720  # (-0.5,0.5),(0.5,-0.5)
 
 def _table(rel: str) -> pd.DataFrame:
     return pd.read_csv(ROOT / rel, comment="#")
-
-
-def _row(t: pd.DataFrame, design: int) -> pd.Series:
-    return t[t.design == design].iloc[0]
-
-
-def _rank(t: pd.DataFrame, design: int, by: str) -> int:
-    """1 + the designs strictly better (ties share a rank), as the documents rank."""
-    return int(1 + (t[by] > _row(t, design)[by]).sum())
-
-
-def _top(t: pd.DataFrame, n: int) -> pd.DataFrame:
-    return t.sort_values(["generalists", "design"], ascending=[False, True]).head(n)
-
-
-def _opposite_sides(t: pd.DataFrame) -> np.ndarray:
-    """One sensor at the back and one at the front, on opposite sides of the body (y of opposite sign)."""
-    return ((t.l1x * t.l2x) < 0).to_numpy() & ((t.l1y * t.l2y) < 0).to_numpy()
 
 
 def _decimals(token: str) -> int:
@@ -119,8 +101,8 @@ def test_our_body_to_the_paper_is_the_ratio_of_the_tables() -> None:
     docs/results.md (once '20-30 times', which no table gives: 1,037 / 57 = 18.2, 33 / 1 = 33)."""
     pb = _table("results/refine-pybullet/empirical/metrics.csv")
     mj = _table("results/refine-mujoco/mujoco/metrics.csv")
-    ratios = [_row(pb, CANONICAL).generalists / 1, _row(mj, CANONICAL).generalists / 1]
-    ratios += [_row(pb, BEST_OUR_BODY).generalists / 57, _row(mj, BEST_OUR_BODY).generalists / 57]
+    ratios = [qs.row(pb, CANONICAL).generalists / 1, qs.row(mj, CANONICAL).generalists / 1]
+    ratios += [qs.row(pb, BEST_OUR_BODY).generalists / 57, qs.row(mj, BEST_OUR_BODY).generalists / 57]
     said = []
     for path in (README, RESULTS_MD):
         for lo, hi in re.findall(r"(\d+(?:\.\d+)?)(?:-(\d+(?:\.\d+)?))? times", path.read_text()):
@@ -137,18 +119,18 @@ def test_the_family_of_the_theorys_top_designs() -> None:
     th = _table("results/paper/theory/metrics.csv")
     text = " ".join(RESULTS_MD.read_text().split())  # sentences across line breaks
     for n in re.findall(r"top (\d+) (?:theory )?designs?[^.]*?all (?:of )?one family", text):
-        assert _opposite_sides(_top(th, int(n))).all(), f"the top {n} theory designs are not all one family"
+        assert qs.opposite_sides(qs.top(th, int(n))).all(), f"the top {n} theory designs are not all one family"
     m = re.search(r"The top (\d+)\s+designs lie within (\d+) generalists", text)
     assert m, "docs/results.md says how close the theory's top designs are"
     n, spread = int(m[1]), int(m[2])
-    top = _top(th, n)
+    top = qs.top(th, n)
     assert top.generalists.max() - top.generalists.min() == spread
     assert th.generalists[~th.design.isin(top.design)].max() < top.generalists.min()  # the whole tie group
     m = re.search(r"(\d+) put them on opposite sides, and (\d+) \(designs ([\d, and]+)\) put both on one side", text)
     assert m, "docs/results.md says which of the top designs have both sensors on one side"
     same = sorted(int(d) for d in re.findall(r"\d+", m[3]))
-    assert (int(m[1]), int(m[2])) == (int(_opposite_sides(top).sum()), len(same))
-    assert same == sorted(top.design[~_opposite_sides(top)].tolist())
+    assert (int(m[1]), int(m[2])) == (int(qs.opposite_sides(top).sum()), len(same))
+    assert same == sorted(top.design[~qs.opposite_sides(top)].tolist())
     assert ((top.l1x * top.l2x) < 0).all()  # "all put one sensor at the back and one at the front"
 
 
@@ -159,7 +141,7 @@ def test_the_readme_says_which_theory_values_are_not_matched() -> None:
     found = " ".join(_found_section(README.read_text()).split())
     m = re.search(r"M_CF`? values \(canonical 0\.24, best 0\.636; ours ([\d.]+) and ([\d.]+)\)", found)
     assert m, "README.md does not say that the paper's M_CF values are not matched"
-    assert _matches(m[1], [_row(th, CANONICAL).M_CF]) and _matches(m[2], [_row(th, PAPER_BEST_THEORY).M_CF])
+    assert _matches(m[1], [qs.row(th, CANONICAL).M_CF]) and _matches(m[2], [qs.row(th, PAPER_BEST_THEORY).M_CF])
     assert re.search(r"designs at `?M_CF`? = 1 \(ours:\s+none\)", found) and th.M_CF.max() < 1
     assert "The theory reproduces" not in found
 
